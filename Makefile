@@ -1,0 +1,50 @@
+# Two commands do everything on a fresh Debian machine:
+#   make demo   install what is missing, then run the default scene
+#   make test   install what is missing, then run the test suite
+# Both are idempotent: a second call installs nothing.
+
+VENV    ?= .venv
+PY      := $(VENV)/bin/python
+DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-venv python3-dev
+SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+DEMO_OUT ?= results/demo
+
+.PHONY: demo test test-all bench setup clean
+
+demo: $(VENV)/.installed
+	$(VENV)/bin/vibrofric analytic scenes/longitudinal.toml --out $(DEMO_OUT)
+
+test: $(VENV)/.installed
+	$(PY) -m pytest -q
+
+test-all: $(VENV)/.installed
+	$(PY) -m pytest -q -m ""
+
+bench: $(VENV)/.installed
+	$(VENV)/bin/vibrofric bench --quick
+
+setup: $(VENV)/.installed
+
+# Debian's packages: DOLFINx 0.5 and everything built against it (numpy,
+# numba, scipy, petsc4py, mpi4py) live under /usr/bin/python3.
+$(VENV)/.debs:
+	@missing=""; for p in $(DEBS); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:$$missing"; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+	/usr/bin/python3 -m venv --system-site-packages $(VENV)
+	touch $@
+
+# pip adds only what Debian lacks; the constraints pin Debian's numpy, numba
+# and scipy so that no pip package can replace them under DOLFINx.
+$(VENV)/.installed: $(VENV)/.debs pyproject.toml
+	$(PY) -c "import numpy, numba, scipy; print(f'numpy=={numpy.__version__}\nnumba=={numba.__version__}\nscipy=={scipy.__version__}')" > $(VENV)/constraints.txt
+	$(PY) -m pip install -q -c $(VENV)/constraints.txt -e '.[test]'
+	touch $@
+
+clean:
+	rm -rf $(VENV) results .pytest_cache

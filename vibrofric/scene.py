@@ -1,0 +1,300 @@
+"""Scenes: the physics of one study case plus the numerics that run it.
+
+A scene is a TOML file with the sections of spec/interface.md. Every key has a
+default (the paper's longitudinal case, spec/model.md section 4), so a file
+holds only what differs; ``--set section.key=value`` overrides any key. Every
+value is checked before any work: a bad one raises ``SceneError`` naming it.
+"""
+
+import dataclasses
+import math
+import tomllib
+import typing
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+
+import tomli_w
+
+
+class SceneError(ValueError):
+    """A scene value that cannot be run; the message names the key."""
+
+    def __init__(self, key: str, message: str):
+        super().__init__(f"{key}: {message}")
+        self.key = key
+
+
+@dataclass(frozen=True)
+class Body:
+    mass: float = 0.5                      # kg
+    size: tuple = (0.03, 0.04, 0.053)      # m: X (sliding), Y, Z (height)
+    E: float = 209e9                       # Pa
+    nu: float = 0.3
+    density: typing.Optional[float] = None  # kg/m^3; default mass / volume
+    gravity: float = 9.81                  # m/s^2, acting in -Z
+
+
+@dataclass(frozen=True)
+class Contact:
+    law: str = "dahl"                      # "dahl" | "lugre"
+    mu: float = 0.1
+    F_N: float = 55.0                      # N, total normal reaction
+    k_t: float = 80e6                      # N/m, tangential stiffness of the whole contact
+    eta_y: float = 0.71                    # transverse vibration transfer coefficient (eq 30)
+    update: str = "exact"                  # "paper" (explicit, eq 18) | "exact"
+    h_t: float = 0.0                       # LuGre contact damping, N s/m
+    h_v: float = 0.0                       # LuGre viscous damping, N s/m
+    F_s: typing.Optional[float] = None     # LuGre stiction force, N; default mu F_N
+    v_s: float = 1e-3                      # LuGre Stribeck velocity, m/s
+
+
+@dataclass(frozen=True)
+class Drive:
+    k_d: float = 96068.0                   # N/m
+    v_d: float = 5e-4                      # m/s
+    attach: str = "contact-plane"          # "contact-plane" | "front-face" (FE only)
+    mode: str = "spring"                   # "spring" | "velocity"
+
+
+@dataclass(frozen=True)
+class Vibration:
+    f: float = 4000.0                      # Hz
+    k_v: float = 6.0                       # v_a / v_d; 0 means no vibration
+    theta_deg: float = 0.0                 # angle of the vibration axis to X
+    t_on: float = 0.14                     # s
+
+
+@dataclass(frozen=True)
+class Time:
+    T: float = 1.0                         # s, simulated time
+    dt: float = 1e-6                       # s
+    average_cycles: int = 20               # vibration cycles at the end averaged into F_dv
+    series_dt: float = 1e-5                # s, sampling of the written time series
+
+
+@dataclass(frozen=True)
+class Fem:
+    mesh: str = "coarse"                   # refinement level, see vibrofric.meshes
+    integrator: str = "explicit"
+    penalty: typing.Optional[float] = None  # N/m per unit area share; default from the block
+    output_every: int = 0                  # steps between ParaView frames; 0: none
+    damping: float = 0.0                   # stiffness-proportional damping, s
+
+
+SECTIONS = {"body": Body, "contact": Contact, "drive": Drive,
+            "vibration": Vibration, "time": Time, "fem": Fem}
+
+CHOICES = {
+    "contact.law": ("dahl", "lugre"),
+    "contact.update": ("paper", "exact"),
+    "drive.attach": ("contact-plane", "front-face"),
+    "drive.mode": ("spring", "velocity"),
+}
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str = "scene"
+    body: Body = field(default_factory=Body)
+    contact: Contact = field(default_factory=Contact)
+    drive: Drive = field(default_factory=Drive)
+    vibration: Vibration = field(default_factory=Vibration)
+    time: Time = field(default_factory=Time)
+    fem: Fem = field(default_factory=Fem)
+
+    # Derived quantities (spec/model.md section 1).
+    @property
+    def vibrated(self) -> bool:
+        return self.vibration.k_v > 0.0
+
+    @property
+    def omega(self) -> float:
+        return 2.0 * math.pi * self.vibration.f
+
+    @property
+    def v_a(self) -> float:
+        """Velocity amplitude of the base, k_v v_d (eq 27)."""
+        return self.vibration.k_v * self.drive.v_d
+
+    @property
+    def u0(self) -> float:
+        """Displacement amplitude of the base, v_a / w (eq 27)."""
+        return self.v_a / self.omega
+
+    @property
+    def F_c(self) -> float:
+        """Coulomb force mu F_N (eq 3)."""
+        return self.contact.mu * self.contact.F_N
+
+    @property
+    def F_s(self) -> float:
+        return self.F_c if self.contact.F_s is None else self.contact.F_s
+
+    @property
+    def steps(self) -> int:
+        return int(round(self.time.T / self.time.dt))
+
+    def get(self, key: str):
+        section, name = _split_key(key)
+        return getattr(getattr(self, section), name)
+
+    def with_values(self, values: dict) -> "Scene":
+        """A copy with ``{"section.key": value}`` set and checked."""
+        raw = to_dict(self)
+        for key, value in values.items():
+            section, name = _split_key(key)
+            raw.setdefault(section, {})[name] = value
+        return from_dict(raw, self.name)
+
+
+def _split_key(key: str):
+    section, _, name = key.partition(".")
+    if section not in SECTIONS:
+        raise SceneError(key, f"unknown section [{section}]; known: {', '.join(SECTIONS)}")
+    if name not in {f.name for f in fields(SECTIONS[section])}:
+        known = ", ".join(f.name for f in fields(SECTIONS[section]))
+        raise SceneError(key, f"unknown key in [{section}]; known: {known}")
+    return section, name
+
+
+def _check_type(key: str, value, annotation):
+    """Coerce a TOML value to the field's type, or refuse it."""
+    optional = typing.get_origin(annotation) is typing.Union
+    base = typing.get_args(annotation)[0] if optional else annotation
+    if base is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise SceneError(key, f"expected a number, got {value!r}")
+        value = float(value)
+        if not math.isfinite(value):
+            raise SceneError(key, f"expected a finite number, got {value!r}")
+        return value
+    if base is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise SceneError(key, f"expected an integer, got {value!r}")
+        return value
+    if base is str:
+        if not isinstance(value, str):
+            raise SceneError(key, f"expected a string, got {value!r}")
+        return value
+    if base is tuple:
+        if not isinstance(value, (list, tuple)) or len(value) != 3:
+            raise SceneError(key, f"expected a list of 3 numbers, got {value!r}")
+        return tuple(_check_type(key, v, float) for v in value)
+    raise TypeError(f"no type check for {annotation}")
+
+
+def from_dict(raw: dict, name: str = "scene") -> Scene:
+    """Build and validate a scene from nested ``{section: {key: value}}``."""
+    sections = {}
+    for section, values in raw.items():
+        if section not in SECTIONS:
+            raise SceneError(section, f"unknown section [{section}]; known: {', '.join(SECTIONS)}")
+        if not isinstance(values, dict):
+            raise SceneError(section, "expected a table of keys")
+        hints = typing.get_type_hints(SECTIONS[section])
+        checked = {}
+        for key, value in values.items():
+            section_, key_ = _split_key(f"{section}.{key}")
+            checked[key_] = _check_type(f"{section}.{key}", value, hints[key_])
+        sections[section] = SECTIONS[section](**checked)
+    scene = Scene(name=name, **sections)
+    validate(scene)
+    return scene
+
+
+def parse_value(text: str):
+    """A ``--set`` value: TOML syntax (``2``, ``1e-6``, ``[1, 2, 3]``, ``"dahl"``), else a bare string."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def parse_assignment(text: str):
+    """``section.key=value`` -> (key, value)."""
+    key, sep, value = text.partition("=")
+    if not sep:
+        raise SceneError(text, "expected section.key=value")
+    key = key.strip()
+    _split_key(key)
+    return key, parse_value(value.strip())
+
+
+def load(path, overrides=()) -> Scene:
+    """Read a scene file and apply ``section.key=value`` overrides."""
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text())
+    except FileNotFoundError:
+        raise SceneError(str(path), "no such scene file") from None
+    except tomllib.TOMLDecodeError as err:
+        raise SceneError(str(path), f"not valid TOML: {err}") from None
+    for text in overrides:
+        key, value = parse_assignment(text)
+        section, name = key.split(".")
+        raw.setdefault(section, {})[name] = value
+    return from_dict(raw, path.stem)
+
+
+def to_dict(scene: Scene) -> dict:
+    """Nested ``{section: {key: value}}`` of every key, unset optionals left out."""
+    out = {}
+    for section in SECTIONS:
+        values = dataclasses.asdict(getattr(scene, section))
+        out[section] = {k: (list(v) if isinstance(v, tuple) else v)
+                        for k, v in values.items() if v is not None}
+    return out
+
+
+def to_toml(scene: Scene) -> str:
+    return tomli_w.dumps(to_dict(scene))
+
+
+def _positive(scene, key, allow_zero=False):
+    value = scene.get(key)
+    if value < 0 or (value == 0 and not allow_zero):
+        raise SceneError(key, f"must be {'>= 0' if allow_zero else '> 0'}, got {value}")
+
+
+def validate(scene: Scene) -> None:
+    """Refuse physically invalid or unrunnable values (spec/interface.md)."""
+    for key, choices in CHOICES.items():
+        if scene.get(key) not in choices:
+            raise SceneError(key, f"must be one of {', '.join(choices)}, got {scene.get(key)!r}")
+    for key in ("body.mass", "body.E", "contact.F_N", "contact.k_t", "drive.k_d", "drive.v_d",
+                "vibration.f", "time.T", "time.dt", "time.series_dt", "contact.v_s"):
+        _positive(scene, key)
+    for key in ("contact.mu", "contact.h_t", "contact.h_v", "body.gravity",
+                "vibration.k_v", "vibration.t_on", "fem.damping", "fem.output_every"):
+        _positive(scene, key, allow_zero=True)
+    if any(v <= 0 for v in scene.body.size):
+        raise SceneError("body.size", f"every edge must be > 0, got {list(scene.body.size)}")
+    if scene.body.density is not None and scene.body.density <= 0:
+        raise SceneError("body.density", f"must be > 0, got {scene.body.density}")
+    if not -1.0 < scene.body.nu < 0.5:
+        raise SceneError("body.nu", f"must lie in (-1, 0.5), got {scene.body.nu}")
+    if not 0.0 <= scene.contact.eta_y <= 1.0:
+        raise SceneError("contact.eta_y", f"must lie in [0, 1], got {scene.contact.eta_y}")
+    if scene.contact.F_s is not None and scene.contact.F_s < 0:
+        raise SceneError("contact.F_s", f"must be >= 0, got {scene.contact.F_s}")
+    if scene.fem.penalty is not None and scene.fem.penalty <= 0:
+        raise SceneError("fem.penalty", f"must be > 0, got {scene.fem.penalty}")
+    if scene.time.average_cycles < 1:
+        raise SceneError("time.average_cycles", f"must be >= 1, got {scene.time.average_cycles}")
+    if scene.time.dt > scene.time.T:
+        raise SceneError("time.dt", f"{scene.time.dt} is longer than time.T = {scene.time.T}")
+    if scene.vibrated:
+        vib, time = scene.vibration, scene.time
+        if time.T <= vib.t_on:
+            raise SceneError("time.T", f"{time.T} s ends before the vibration starts "
+                                       f"(vibration.t_on = {vib.t_on} s)")
+        steps_per_cycle = 1.0 / (vib.f * time.dt)
+        if steps_per_cycle < 10:
+            raise SceneError("time.dt", f"{time.dt} s resolves a vibration cycle of 1/f = "
+                                        f"{1 / vib.f:.3g} s in {steps_per_cycle:.3g} steps; "
+                                        "at least 10 are needed")
+        window = time.average_cycles / vib.f
+        if time.T - vib.t_on < window:
+            raise SceneError("time.average_cycles",
+                             f"{time.average_cycles} cycles ({window:.3g} s) do not fit between "
+                             f"vibration.t_on = {vib.t_on} s and time.T = {time.T} s")
