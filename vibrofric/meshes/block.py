@@ -13,7 +13,7 @@ imported only by ``load_block``.
 import contextlib
 import os
 import re
-import tempfile
+import uuid
 from pathlib import Path
 
 DEFAULT_SIZE = (0.03, 0.04, 0.053)  # m: Lx (sliding), Ly, Lz (height)
@@ -155,10 +155,10 @@ def block_mesh_model(size=DEFAULT_SIZE, level: str = "coarse"):
         model.setPhysicalName(3, BLOCK, "block")
         eps = 1e-3 * min(lengths)
         for tag, (name, axis, far) in FACES.items():
+            # The one face inside a thin slab around its plane.
             low, high = [-eps] * 3, [L + eps for L in lengths]
-            low[axis] = high[axis] = lengths[axis] if far else 0.0
-            low[axis] -= eps
-            high[axis] += eps
+            plane = lengths[axis] if far else 0.0
+            low[axis], high[axis] = plane - eps, plane + eps
             (_, surface), = model.getEntitiesInBoundingBox(*low, *high, dim=2)
             model.addPhysicalGroup(2, [surface], tag)
             model.setPhysicalName(2, tag, name)
@@ -189,16 +189,14 @@ def block_mesh_file(size=DEFAULT_SIZE, level: str = "coarse", cache_dir=None) ->
         return path
 
     folder.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.stem}.", suffix=".msh")
-    os.close(fd)
+    tmp = folder / f".{path.stem}.{uuid.uuid4().hex}.msh"  # unique to this writer
     try:
         with block_mesh_model(size, level) as gmsh:
             gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
-            gmsh.write(tmp)
+            gmsh.write(str(tmp))
         os.replace(tmp, path)
     finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        tmp.unlink(missing_ok=True)
     return path
 
 
