@@ -68,7 +68,8 @@ class Vibration:
 class Time:
     T: float = 1.0                         # s, simulated time
     dt: float = 1e-6                       # s
-    average_cycles: int = 20               # vibration cycles at the end averaged into F_dv
+    average_cycles: int = 0                # vibration cycles at the end averaged into F_dv;
+                                           # 0: those nearest one drive-system period
     series_dt: float = 1e-5                # s, sampling of the written time series
 
 
@@ -129,6 +130,25 @@ class Scene:
     @property
     def F_s(self) -> float:
         return self.F_c if self.contact.F_s is None else self.contact.F_s
+
+    @property
+    def drive_period(self) -> float:
+        """Period of the body on the drive spring, 2 pi sqrt(m / k_d)."""
+        return 2.0 * math.pi * math.sqrt(self.body.mass / self.drive.k_d)
+
+    @property
+    def averaged_cycles(self) -> int:
+        """Whole vibration cycles averaged into F_dv (eqs 40-41).
+
+        By default those nearest one period of the drive system: the undamped
+        body-on-spring oscillation left from breakaway then averages out too.
+        A prescribed-velocity body has no such oscillation: 10 cycles.
+        """
+        if self.time.average_cycles:
+            return self.time.average_cycles
+        if self.drive.mode == "velocity":
+            return 10
+        return max(1, round(self.drive_period * self.vibration.f))
 
     @property
     def steps(self) -> int:
@@ -279,8 +299,8 @@ def validate(scene: Scene) -> None:
         raise SceneError("contact.F_s", f"must be >= 0, got {scene.contact.F_s}")
     if scene.fem.penalty is not None and scene.fem.penalty <= 0:
         raise SceneError("fem.penalty", f"must be > 0, got {scene.fem.penalty}")
-    if scene.time.average_cycles < 1:
-        raise SceneError("time.average_cycles", f"must be >= 1, got {scene.time.average_cycles}")
+    if scene.time.average_cycles < 0:
+        raise SceneError("time.average_cycles", f"must be >= 0, got {scene.time.average_cycles}")
     if scene.time.dt > scene.time.T:
         raise SceneError("time.dt", f"{scene.time.dt} is longer than time.T = {scene.time.T}")
     if scene.vibrated:
@@ -293,8 +313,9 @@ def validate(scene: Scene) -> None:
             raise SceneError("time.dt", f"{time.dt} s resolves a vibration cycle of 1/f = "
                                         f"{1 / vib.f:.3g} s in {steps_per_cycle:.3g} steps; "
                                         "at least 10 are needed")
-        window = time.average_cycles / vib.f
+        cycles = scene.averaged_cycles
+        window = cycles / vib.f
         if time.T - vib.t_on < window:
             raise SceneError("time.average_cycles",
-                             f"{time.average_cycles} cycles ({window:.3g} s) do not fit between "
+                             f"{cycles} cycles ({window:.3g} s) do not fit between "
                              f"vibration.t_on = {vib.t_on} s and time.T = {time.T} s")

@@ -74,11 +74,11 @@ class RecordPlan:
 
 
 def averaging_steps(scene) -> int:
-    """Steps in the final window averaged into F_dv: ``time.average_cycles`` whole cycles (eq 41).
+    """Steps in the final window averaged into F_dv: whole cycles of n = 1/(f dt) steps (eq 41).
 
     A scene without vibration averages over as many cycles of ``vibration.f``.
     """
-    return max(1, int(round(scene.time.average_cycles / (scene.vibration.f * scene.time.dt))))
+    return max(1, int(round(scene.averaged_cycles / (scene.vibration.f * scene.time.dt))))
 
 
 def full_resolution_steps(scene) -> int:

@@ -1,0 +1,79 @@
+"""PNG plots: the paper's figures for a run and for a sweep."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .analytic.closed_form import coulomb_ratio  # noqa: E402
+from .analytic.series import PLOT_CYCLES  # noqa: E402
+
+HISTORY_END = 0.3  # s: the paper plots time histories to 0.3 s (Figs 7, 10)
+
+
+def drive_force_history(runs: dict, scene, path) -> None:
+    """F_d over time to 0.3 s (Fig 7 / Fig 10 analogue); ``runs`` maps a label to a TimeSeries."""
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for label, series in runs.items():
+        keep = series.t <= HISTORY_END
+        ax.plot(series.t[keep], series.F_d[keep], lw=0.8, label=label)
+    ax.axhline(scene.F_c, color="k", ls=":", lw=0.8, label=r"$F_c = \mu F_N$")
+    if scene.vibrated:
+        ax.axvline(scene.vibration.t_on, color="grey", ls="--", lw=0.8, label="vibration on")
+    ax.set(xlabel="time t (s)", ylabel="drive force $F_d$ (N)",
+           title=f"{scene.name}: $k_v$ = {scene.vibration.k_v:g}, "
+                 rf"$\theta$ = {scene.vibration.theta_deg:g}°")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def friction_last_cycles(runs: dict, scene, path) -> None:
+    """F_x and F_y over the last vibration cycles (Fig 8 / Fig 11 analogue)."""
+    fig, ax = plt.subplots(figsize=(7, 4))
+    duration = PLOT_CYCLES / scene.vibration.f
+    for label, series in runs.items():
+        tail = series.tail(duration)
+        ax.plot(tail.t, tail.F_x, lw=1.0, label=f"$F_x$ {label}")
+        ax.plot(tail.t, tail.F_y, lw=1.0, ls="--", label=f"$F_y$ {label}")
+    ax.set(xlabel="time t (s)", ylabel="friction force (N)",
+           title=f"friction over the last {PLOT_CYCLES} cycles")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def ratio_against_kv(records: list, scene, path, key="F_dv_over_F_d0") -> None:
+    """F_dv/F_d0 against k_v (Fig 6 / Fig 9 analogue), with the rigid Coulomb limit."""
+    k_v = np.array([r["vibration.k_v"] for r in records], float)
+    order = np.argsort(k_v)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(k_v[order], np.array([r[key] for r in records])[order], "o-", ms=4, label="Dahl stepper")
+    fine = np.linspace(max(k_v.min(), 1e-3), k_v.max(), 200)
+    limit = [coulomb_ratio(k, scene.vibration.theta_deg, scene.contact.eta_y) for k in fine]
+    ax.plot(fine, limit, "k:", lw=1, label="rigid Coulomb limit")
+    ax.set(xlabel=r"$k_v = v_a / v_d$", ylabel=r"$F_{dv} / F_{d0}$", ylim=(0, 1.1),
+           title=rf"{scene.name}: $\theta$ = {scene.vibration.theta_deg:g}°")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def ratio_against_angle(records: list, path, key="F_dv_over_F_d0") -> None:
+    """F_dv/F_d0 against theta, one curve per k_v (Fig 12 analogue)."""
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for k_v in sorted({r["vibration.k_v"] for r in records}):
+        rows = sorted((r for r in records if r["vibration.k_v"] == k_v),
+                      key=lambda r: r["vibration.theta_deg"])
+        ax.plot([r["vibration.theta_deg"] for r in rows], [r[key] for r in rows],
+                "o-", ms=3, label=f"$k_v$ = {k_v:g}")
+    ax.set(xlabel=r"vibration angle $\theta$ (°)", ylabel=r"$F_{dv} / F_{d0}$",
+           xticks=range(0, 361, 45), ylim=(0, None))
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
