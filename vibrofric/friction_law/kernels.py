@@ -108,8 +108,9 @@ def node_step(
     Returns the new state and the friction force F (eq 1, 38-39; eqs 46-47
     for LuGre), which acts on the body as -F.
     """
-    if normal_force <= 0.0 or mu <= 0.0:
-        # Out of contact, or frictionless: no force, and the asperity is released.
+    if normal_force <= 0.0 or mu <= 0.0 or stiffness <= 0.0:
+        # Out of contact, frictionless or without contact area: no force, and
+        # the asperity is released.
         return 0.0, ex, ey, 0.0, 0.0
     compliance = 1.0 / stiffness
     s_c = mu * normal_force * compliance

@@ -1,0 +1,22 @@
+import pathlib
+
+import pytest
+
+from vibrofric import scene as scene_module
+
+SCENES = pathlib.Path(__file__).resolve().parent.parent / "scenes"
+
+
+@pytest.fixture(scope="session")
+def load_scene():
+    """Load a shipped scene by name, with ``{"section.key": value}`` changes."""
+    def load(name, **changes):
+        scene = scene_module.load(SCENES / f"{name}.toml")
+        return scene.with_values({k.replace("__", "."): v for k, v in changes.items()})
+    return load
+
+
+@pytest.fixture(autouse=True)
+def _at_repository_root(monkeypatch):
+    """Tests name scenes as ``scenes/...``, as a user at the repository root would."""
+    monkeypatch.chdir(SCENES.parent)

@@ -1,0 +1,66 @@
+"""The vibrofric command: JSON, results directories, refusals."""
+
+import csv
+import json
+
+import pytest
+
+from vibrofric.cli import EXIT_BAD_INPUT, main
+
+SHORT = ["--set", "time.T=0.2"]
+SUMMARY_KEYS = {"F_dv_over_F_d0", "F_dv", "F_d0", "breakaway_time_s", "steps", "wall_time_s"}
+
+
+def test_analytic_json_and_results(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["analytic", "scenes/longitudinal.toml", *SHORT, "--out", str(out), "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert SUMMARY_KEYS <= set(document)
+    assert document["steps"] == 200_000 and 0 < document["F_dv_over_F_d0"] < 1
+    names = {p.name for p in out.iterdir()}
+    assert {"scene.toml", "summary.json", "timeseries.csv", "drive_force.png",
+            "friction_last_cycles.png"} <= names
+    with open(out / "timeseries.csv") as f:
+        header = next(csv.reader(f))
+    assert header == ["t", "F_d", "F_x", "F_y", "x", "y", "x_b", "y_b"]
+    written = json.loads((out / "summary.json").read_text())["analytic"]
+    assert written["F_dv"] == document["F_dv"]
+
+
+@pytest.mark.parametrize("override", ["body.mass=-1", "time.dt=0", "vibration.k_v=-1", "bogus.key=1"])
+def test_refused_scene_writes_nothing(tmp_path, capsys, override):
+    out = tmp_path / "never"
+    code = main(["analytic", "scenes/longitudinal.toml", "--set", override, "--out", str(out)])
+    assert code == EXIT_BAD_INPUT
+    assert override.split("=")[0] in capsys.readouterr().err
+    assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_numerical_trouble_writes_nothing(tmp_path, capsys):
+    out = tmp_path / "never"
+    code = main(["analytic", "scenes/longitudinal.toml", "--set", "contact.update=paper",
+                 "--set", "contact.k_t=8e9", *SHORT, "--out", str(out)])
+    assert code != 0 and "diverged" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_sweep_over_k_v_and_angle(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    code = main(["sweep", "scenes/coupled.toml", *SHORT, "--grid", "vibration.k_v=2,6",
+                 "--grid", "vibration.theta_deg=0:90:3", "--out", str(out), "--json"])
+    assert code == 0
+    records = json.loads(capsys.readouterr().out)
+    assert [(r["vibration.k_v"], r["vibration.theta_deg"]) for r in records] == [
+        (2, 0.0), (2, 45.0), (2, 90.0), (6, 0.0), (6, 45.0), (6, 90.0)]
+    assert all(SUMMARY_KEYS <= set(r) for r in records)
+    with open(out / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 6 and float(rows[4]["F_dv_over_F_d0"]) == records[4]["F_dv_over_F_d0"]
+    assert (out / "ratio_against_angle.png").exists()
+
+
+def test_sweep_with_a_bad_point_is_refused_before_any_work(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    code = main(["sweep", "scenes/coupled.toml", *SHORT, "--grid", "vibration.k_v=2,-1", "--out", str(out)])
+    assert code == EXIT_BAD_INPUT and "vibration.k_v" in capsys.readouterr().err
+    assert not out.exists()
