@@ -9,7 +9,7 @@ DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-venv python3
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEMO_OUT ?= results/demo
 
-.PHONY: demo test test-all bench setup clean
+.PHONY: demo test test-all bench setup clean clean-cache
 
 demo: $(VENV)/.installed
 	$(VENV)/bin/vibrofric analytic scenes/longitudinal.toml --out $(DEMO_OUT)
@@ -46,5 +46,9 @@ $(VENV)/.installed: $(VENV)/.debs pyproject.toml
 	$(PY) -m pip install -q -c $(VENV)/constraints.txt -e '.[test]'
 	touch $@
 
-clean:
+# numba's cache does not see edits to functions compiled into other files
+clean-cache:
+	find vibrofric -name '*.nbi' -delete -o -name '*.nbc' -delete
+
+clean: clean-cache
 	rm -rf $(VENV) results .pytest_cache
