@@ -21,7 +21,7 @@ test-all: $(VENV)/.installed
 	$(PY) -m pytest -q -m ""
 
 bench: $(VENV)/.installed
-	$(VENV)/bin/vibrofric bench --quick
+	$(PY) benchmarks/analytic_speed.py
 
 setup: $(VENV)/.installed
 
