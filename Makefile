@@ -5,14 +5,15 @@
 
 VENV    ?= .venv
 PY      := $(VENV)/bin/python
-DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-venv python3-dev
+DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-venv python3-dev libosmesa6
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEMO_OUT ?= results/demo
 
 .PHONY: demo test test-all bench setup clean clean-cache
 
+# The paper's Fig 7 scene (longitudinal, k_v = 6) to 0.3 s, FE and analytic.
 demo: $(VENV)/.installed
-	$(VENV)/bin/vibrofric analytic scenes/longitudinal.toml --out $(DEMO_OUT)
+	$(VENV)/bin/vibrofric run scenes/longitudinal.toml --set time.T=0.3 --out $(DEMO_OUT)
 
 test: $(VENV)/.installed
 	$(PY) -m pytest -q

@@ -33,6 +33,9 @@ def build_parser() -> argparse.ArgumentParser:
     analytic.add_argument("--stepper", choices=("coupled", "longitudinal"), default="coupled",
                           help="coupled two-phase model (default) or the 1D longitudinal model [23]")
 
+    run = commands.add_parser("run", help="the FE simulation, and the analytic stepper on the same scene")
+    _scene_arguments(run)
+
     sweep = commands.add_parser("sweep", help="a batch over a grid of scene values")
     _scene_arguments(sweep)
     sweep.add_argument("--grid", action="append", required=True, metavar="KEY=VALUES",
@@ -63,6 +66,39 @@ def cmd_analytic(args) -> None:
           f"F_d0 = {summary['F_d0']:.4f} N) in {summary['wall_time_s']:.3f} s; results in {target}")
 
 
+def cmd_run(args) -> None:
+    from .analytic.run import run
+    from .analytic.summary import summarize
+    from .fem import run_fe
+    from .picture import block_picture
+
+    scene = scene_module.load(args.scene, args.overrides)
+    target = args.out or output.default_dir(scene.name)
+    with output.staged(target) as stage:
+        fe = run_fe(scene, vtk_dir=stage / "paraview")
+        analytic_series, analytic = run(scene)
+        fe_summary = {**summarize(fe.series, scene, fe.info["wall_time_s"]),
+                      "dofs": fe.info["dofs"], "contact_nodes": fe.info["contact_nodes"]}
+        rel_error = (abs(fe_summary["F_dv_over_F_d0"] - analytic["F_dv_over_F_d0"])
+                     / analytic["F_dv_over_F_d0"])
+        document = {"fe": fe_summary, "analytic": analytic, "rel_error": rel_error, "out": str(target)}
+        info = {**fe.info, "vtk": "paraview/block.pvd" if fe.info["frames"] else None}
+        output.write_scene(stage, scene)
+        output.write_summary(stage, {**document, "fe_info": info})
+        output.write_timeseries(stage, fe.series)
+        output.write_timeseries(stage, analytic_series, "analytic_timeseries.csv")
+        runs = {"FE": fe.series, "analytic": analytic_series}
+        plots.drive_force_history(runs, scene, stage / "drive_force.png")
+        plots.friction_last_cycles(runs, scene, stage / "friction_last_cycles.png")
+        plots.normal_force_history(fe.series, scene, stage / "normal_force.png")
+        if fe.info["frames"]:
+            block_picture(stage / "paraview" / "block.pvd", stage / "block.png")
+    _emit(args, document,
+          f"F_dv/F_d0: FE {fe_summary['F_dv_over_F_d0']:.4f} ({fe_summary['dofs']} DOFs, "
+          f"{fe_summary['wall_time_s']:.1f} s), analytic {analytic['F_dv_over_F_d0']:.4f}; "
+          f"relative difference {rel_error:.2%}; results in {target}")
+
+
 def cmd_sweep(args) -> None:
     from .analytic.sweep import parse_grid, sweep
 
@@ -83,7 +119,7 @@ def cmd_sweep(args) -> None:
                          f"{max(ratios):.4f}; results in {target}")
 
 
-COMMANDS = {"analytic": cmd_analytic, "sweep": cmd_sweep}
+COMMANDS = {"analytic": cmd_analytic, "run": cmd_run, "sweep": cmd_sweep}
 
 
 def main(argv=None) -> int:

@@ -77,3 +77,16 @@ def ratio_against_angle(records: list, path, key="F_dv_over_F_d0") -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def normal_force_history(series, scene, path) -> None:
+    """The FE model's summed normal reaction over time: steady at F_N in a sound run."""
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    ax.plot(series.t, series.extra["F_n"], lw=0.8, label=r"$\sum$ nodal normal force")
+    ax.axhline(scene.contact.F_N, color="k", ls=":", lw=0.8, label=r"$F_N$")
+    ax.set(xlabel="time t (s)", ylabel="normal reaction (N)",
+           title="normal force over the contact face")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

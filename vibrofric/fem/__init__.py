@@ -1,0 +1,23 @@
+"""The finite-element model: an elastic block on a vibrating rigid base (DOLFINx 0.5).
+
+The open counterpart of the paper's Abaqus/Explicit model with a VFRIC
+friction subroutine (spec/model.md section 5). One physical idea per module:
+
+    assembly     the elastic block in DOLFINx: K (vector Q1), lumped mass, face areas
+    loads        gravity + top pressure, sized to the normal reaction F_N
+    contact      penalty normal contact and the per-node friction law (VFRIC analogue)
+    drive        the drive spring k_d and where it attaches
+    preload      the static equilibrium every run starts from
+    stability    the highest frequency, default damping, explicit stable step
+    model        a scene's FE model as plain arrays (all of the above, once per run)
+    explicit     central-difference time loop (numba), the baseline integrator
+    integrators  the registry fem.integrator selects from
+    paraview     the .pvd frame series (DOLFINx VTKFile)
+    run          run_fe(scene, comm, vtk_dir) -> FEResult
+
+Only assembly and paraview import DOLFINx.
+"""
+
+from .run import FEResult, run_fe
+
+__all__ = ["FEResult", "run_fe"]

@@ -1,0 +1,66 @@
+"""The drive: a spring k_d from the point B moving at v_d to the block (eq 17).
+
+The spring attaches to a set of nodes A with weights w_a (sum 1). Its length
+change is the weighted mean X displacement of those nodes since the preloaded
+state, and its force is spread over the same nodes by the same weights:
+
+    x_A = sum_a w_a (u_x,a - u0_x,a),      F_d = k_d (v_d t - x_A)      (eq 17)
+    f_x,a = w_a F_d
+
+(the same weights both ways make the spring the symmetric rank-one stiffness
+k_d w w^T: it stores energy k_d (v_d t - x_A)^2 / 2 and nothing else).
+
+Where it attaches (scene drive.attach, spec/model.md section 5):
+
+contact-plane
+    the contact-face nodes, weighted by tributary area: a uniform traction on
+    the plane z = 0, where the friction acts too, so the drive and friction
+    make no tilting moment: the lumped model's setting, used to validate.
+front-face
+    the front face FRONT (x = L_x) weighted by tributary area: a uniform
+    traction whose resultant acts at the face's centre, mid-height L_z / 2; with
+    the friction at z = 0 it tilts the block and makes the contact pressure
+    non-uniform, which the lumped model lacks.
+"""
+
+import numpy as np
+from numba import njit
+
+from .. import meshes
+from ..scene import SceneError
+
+ATTACH_FACES = {"contact-plane": meshes.CONTACT, "front-face": meshes.FRONT}
+
+
+def attachment(scene, face_area: dict):
+    """(nodes, weights) of the drive's attachment: the face's nodes by area share."""
+    if scene.drive.mode != "spring":
+        raise SceneError("drive.mode", f"{scene.drive.mode!r} is not implemented by the FE model; "
+                                       "use \"spring\" (the paper's drive spring)")
+    area = face_area[ATTACH_FACES[scene.drive.attach]]
+    nodes = np.flatnonzero(area > 0.0).astype(np.int64)
+    return nodes, area[nodes] / area[nodes].sum()
+
+
+@njit(cache=True, error_model="numpy")
+def attachment_position(u, reference, nodes, weights):
+    """(x_A, y_A): the weighted mean X and Y displacement of the attachment nodes,
+    measured from the ``reference`` (the preloaded state)."""
+    x = y = 0.0
+    for k in range(nodes.shape[0]):
+        d = 3 * nodes[k]
+        x += weights[k] * (u[d] - reference[d])
+        y += weights[k] * (u[d + 1] - reference[d + 1])
+    return x, y
+
+
+def drive_stiffness_action(k_d, nodes, weights, dofs):
+    """The drive spring's stiffness k_d w w^T as a function u -> K_d u (for the stable step)."""
+    index = 3 * nodes
+
+    def action(u):
+        out = np.zeros(dofs)
+        out[index] = k_d * weights * np.dot(weights, u[index])
+        return out
+
+    return action

@@ -1,0 +1,157 @@
+"""The FE model of a scene as plain arrays: block, loads, contact, drive, preload, step.
+
+``build_model(scene, comm)`` does everything that happens once per run:
+
+1. the elastic block (assembly.py): K, lumped mass M, face areas, with
+   rho = body.density or body.mass / volume (0.5 kg -> 7850 kg/m^3 and
+   2 kg -> 31400 kg/m^3 on the paper's block);
+2. the normal load (loads.py): gravity + top pressure, total F_N;
+3. the contact (contact.py): the contact-face nodes, their area shares
+   w_i = a_i / A and penalty springs k_pen w_i;
+4. the drive's attachment nodes and weights (drive.py);
+5. the static preload u0 (preload.py);
+6. the highest frequency, the damping and the stable step (stability.py).
+
+Damping (fem.damping = beta, seconds; C = beta (K + K_pen), stability.py).
+What the scene needs from the block is its quasi-static compliance: the
+excitation (3-4 kHz and the harmonics the Dahl law makes) lies far below the
+block's elastic modes, and the 2 kHz mode of the block on its tangential
+contact stiffness is a rigid-body motion that K does not touch (nor the
+lumped model's). What it does not need, and what rings when the friction
+forces jump every half cycle, are the mesh's high-frequency modes: Abaqus/
+Explicit damps them by default with bulk viscosity, whose linear term gives
+the highest element mode a damping ratio of about 0.06. The default here does
+the same with Rayleigh damping: beta = 2 XI_MAX / w_max, XI_MAX = 0.06, which
+costs 6% of the stable step (the 0.5 kg block on the "coarse" mesh: 1.046 us,
+just above the paper's 1e-6 s) and gives the quasi-static deformation at 4 kHz
+a damping ratio beta w / 2 ~ 1e-3. Starting from the static preload, that is
+enough: the summed normal force stays within 0.1-0.35% of F_N over the
+averaging window (run.py checks it), and 7x more damping changed F_dv by 0.02%
+(transverse, k_v = 20). Stiffness-proportional damping cannot reach the
+block's rigid contact modes (rocking and bounce on the penalty springs, 10-25
+kHz for 0.5 kg) without eating the stable step: they get xi ~ 0.003.
+"""
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import meshes
+from ..scene import SceneError
+from . import stability
+from .assembly import Discretization, assemble_block
+from .contact import default_penalty
+from .drive import attachment, drive_stiffness_action
+from .loads import normal_load, top_pressure
+from .preload import static_preload
+
+
+@dataclass
+class FEModel:
+    disc: Discretization
+    density: float           # kg/m^3
+    block_mass: float        # kg, rho V
+    pressure: float          # Pa, on TOP
+    load: np.ndarray         # (dofs,) gravity + top pressure
+    inverse_mass: np.ndarray  # (dofs,) 1 / m_i
+    contact_nodes: np.ndarray  # (n,) node indices on CONTACT
+    contact_area: np.ndarray   # (n,) tributary areas a_i, m^2
+    area_share: np.ndarray     # (n,) w_i = a_i / A, sum 1
+    penalty: float             # N/m, whole face
+    penalty_share: np.ndarray  # (n,) k_pen w_i
+    attach_nodes: np.ndarray
+    attach_weights: np.ndarray
+    u0: np.ndarray             # (dofs,) static preload displacement
+    normal0: np.ndarray        # (n,) static normal forces, sum F_N
+    omega_max: float           # rad/s
+    beta: float                # s, Rayleigh stiffness-proportional damping
+    dt_stable: float           # s
+
+    @property
+    def stiffness(self):
+        return self.disc.stiffness
+
+    @property
+    def dofs(self) -> int:
+        return self.disc.dofs
+
+
+def density(scene) -> float:
+    """body.density, else body.mass / (L_x L_y L_z)."""
+    if scene.body.density is not None:
+        return scene.body.density
+    return scene.body.mass / math.prod(scene.body.size)
+
+
+def check_tipping(scene) -> None:
+    """Refuse a front-face drive strong enough to tip the block over its front edge.
+
+    About the front bottom edge, the drive (up to the sliding force
+    max(mu, mu_s) F_N, at height L_z / 2) turns the block against the normal
+    load F_N acting at L_x / 2: it tips, and the back of the face lifts off the
+    base, once max(mu, mu_s) L_z > L_x.
+    """
+    if scene.drive.attach != "front-face":
+        return
+    Lx, _, Lz = scene.body.size
+    mu_max = max(scene.contact.mu, scene.F_s / scene.contact.F_N)
+    if mu_max * Lz >= Lx:
+        raise SceneError("drive.attach", f"a front-face drive at mid-height would tip the block "
+                                         f"(friction coefficient {mu_max:g} >= L_x / L_z = "
+                                         f"{Lx / Lz:.3g}) and leave its back off the base; "
+                                         "use \"contact-plane\"")
+
+
+def build_model(scene, comm) -> FEModel:
+    """Everything a run needs before its first step; refuses bad scenes with SceneError."""
+    body = scene.body
+    check_tipping(scene)
+    rho = density(scene)
+    try:
+        disc = assemble_block(comm, body.size, scene.fem.mesh, body.E, body.nu, rho,
+                              faces=(meshes.CONTACT, meshes.TOP, meshes.FRONT))
+    except ValueError as error:
+        if "mesh level" in str(error):
+            raise SceneError("fem.mesh", str(error)) from None
+        raise
+
+    block_mass = rho * disc.volume
+    top = disc.face_area[meshes.TOP]
+    pressure = top_pressure(scene, block_mass, top.sum())
+    load = normal_load(disc.mass, top, body.gravity, pressure)
+
+    area = disc.face_area[meshes.CONTACT]
+    contact_nodes = np.flatnonzero(area > 0.0).astype(np.int64)
+    contact_area = area[contact_nodes]
+    area_share = contact_area / contact_area.sum()
+    penalty = scene.fem.penalty if scene.fem.penalty is not None else default_penalty(body.E, body.size)
+    penalty_share = penalty * area_share
+
+    attach_nodes, attach_weights = attachment(scene, disc.face_area)
+
+    u0, normal0 = static_preload(disc.stiffness, load, contact_nodes, penalty_share, area_share,
+                                 scene.contact.k_t, scene.contact.F_N)
+
+    omega_max = stability.max_frequency(
+        disc.stiffness, disc.mass, contact_nodes, penalty_share, 2.0 * scene.contact.k_t * area_share,
+        drive_stiffness_action(scene.drive.k_d, attach_nodes, attach_weights, disc.dofs))
+    beta = scene.fem.damping if scene.fem.damping > 0.0 else stability.default_damping(omega_max)
+    dt_stable = stability.critical_step(omega_max, beta)
+
+    return FEModel(disc=disc, density=rho, block_mass=block_mass, pressure=pressure, load=load,
+                   inverse_mass=1.0 / disc.mass, contact_nodes=contact_nodes,
+                   contact_area=contact_area, area_share=area_share, penalty=penalty,
+                   penalty_share=penalty_share, attach_nodes=attach_nodes,
+                   attach_weights=attach_weights, u0=u0, normal0=normal0,
+                   omega_max=omega_max, beta=beta, dt_stable=dt_stable)
+
+
+def check_step(scene, model: FEModel) -> None:
+    """Refuse a time.dt above the stable step."""
+    if scene.time.dt > model.dt_stable:
+        raise SceneError("time.dt", f"{scene.time.dt:g} s is above the explicit stable step "
+                                    f"{model.dt_stable:.4g} s of mesh {scene.fem.mesh!r} "
+                                    f"(highest frequency {model.omega_max / (2 * math.pi):.4g} Hz, "
+                                    f"damping {model.beta:.3g} s): use time.dt <= "
+                                    f"{model.dt_stable:.4g}, a coarser fem.mesh or less fem.damping")

@@ -1,0 +1,48 @@
+"""A picture of the block from its ParaView series (pyvista, off-screen).
+
+The contact face seen from below, coloured by contact pressure, with the
+friction traction as arrows, over the deformed block drawn translucent.
+"""
+
+import os
+
+# Render with OSMesa (Debian's libosmesa6): no display needed.
+os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+
+import numpy as np  # noqa: E402
+import pyvista as pv  # noqa: E402
+
+
+def last_frame(pvd_path):
+    """The last time step of a .pvd series and its time."""
+    reader = pv.get_reader(str(pvd_path))
+    reader.set_active_time_point(len(reader.time_values) - 1)
+    return reader.read().combine(), reader.time_values[-1]
+
+
+def block_picture(pvd_path, png_path) -> None:
+    """Contact pressure and friction traction of the last frame, as PNG."""
+    block, time = last_frame(pvd_path)
+    z = block.points[:, 2]
+    on_face = z <= z.min() + 1e-9 * np.ptp(z)
+    contact = pv.PolyData(block.points[on_face])
+    for name in ("contact_pressure", "friction_traction"):
+        contact[name] = np.asarray(block[name])[on_face]
+    bottom = contact.delaunay_2d()
+    traction = np.linalg.norm(contact["friction_traction"], axis=1)
+    arrow_length = 0.25 * min(np.ptp(block.points[:, 0]), np.ptp(block.points[:, 1]))
+    arrows = contact.glyph(orient="friction_traction", scale=False,
+                           factor=arrow_length * (traction.max() > 0))
+
+    plotter = pv.Plotter(off_screen=True, window_size=(900, 700))
+    plotter.add_mesh(block.extract_surface(algorithm="dataset_surface"), color="lightgrey", opacity=0.2)
+    plotter.add_mesh(block.outline(), color="black")
+    plotter.add_mesh(bottom, scalars="contact_pressure", cmap="viridis",
+                     scalar_bar_args={"title": "contact pressure (Pa)", "fmt": "%.3g",
+                                      "position_x": 0.2, "width": 0.6})
+    plotter.add_mesh(arrows, color="crimson")
+    plotter.add_text(f"t = {time:.4g} s: contact pressure, friction traction (arrows)", font_size=10)
+    plotter.view_vector((0.8, -1.2, -0.9), viewup=(0, 0, 1))  # from below, in front of the drive
+    plotter.reset_camera()
+    plotter.screenshot(str(png_path))
+    plotter.close()
