@@ -64,3 +64,29 @@ def test_sweep_with_a_bad_point_is_refused_before_any_work(tmp_path, capsys):
     code = main(["sweep", "scenes/coupled.toml", *SHORT, "--grid", "vibration.k_v=2,-1", "--out", str(out)])
     assert code == EXIT_BAD_INPUT and "vibration.k_v" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_run_fe_and_analytic_json_and_results(tmp_path, capsys):
+    out = tmp_path / "fe"
+    code = main(["run", "scenes/longitudinal.toml", "--set", "time.T=0.16", "--set", "fem.mesh=tiny",
+                 "--set", "fem.output_every=5000", "--out", str(out), "--json"])
+    assert code == 0
+    document = json.loads(capsys.readouterr().out)
+    assert SUMMARY_KEYS | {"dofs", "contact_nodes"} <= set(document["fe"])
+    assert SUMMARY_KEYS <= set(document["analytic"])
+    assert document["fe"]["dofs"] == 24 and document["fe"]["contact_nodes"] == 4
+    fe, analytic = document["fe"]["F_dv_over_F_d0"], document["analytic"]["F_dv_over_F_d0"]
+    assert document["rel_error"] == pytest.approx(abs(fe - analytic) / analytic, rel=1e-12)
+    names = {p.name for p in out.iterdir()}
+    assert {"scene.toml", "summary.json", "timeseries.csv", "analytic_timeseries.csv",
+            "drive_force.png", "friction_last_cycles.png", "normal_force.png", "block.png",
+            "paraview"} <= names
+    frames = sorted((out / "paraview").glob("*.vtu"))
+    assert (out / "paraview" / "block.pvd").exists() and len(frames) == 33  # steps 0, 5000, ..., 160000
+
+
+def test_run_refuses_a_step_above_the_stable_limit(tmp_path, capsys):
+    out = tmp_path / "fe"
+    code = main(["run", "scenes/longitudinal.toml", "--set", "fem.mesh=medium", "--out", str(out)])
+    assert code == EXIT_BAD_INPUT and "time.dt" in capsys.readouterr().err
+    assert not out.exists() and list(tmp_path.iterdir()) == []
