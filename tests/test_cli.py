@@ -5,7 +5,7 @@ import json
 
 import pytest
 
-from vibrofric.cli import EXIT_BAD_INPUT, main
+from vibrofric.cli import EXIT_BAD_INPUT, EXIT_POINTS_FAILED, main
 
 SHORT = ["--set", "time.T=0.2"]
 SUMMARY_KEYS = {"F_dv_over_F_d0", "F_dv", "F_d0", "breakaway_time_s", "steps", "wall_time_s"}
@@ -59,11 +59,27 @@ def test_sweep_over_k_v_and_angle(tmp_path, capsys):
     assert (out / "ratio_against_angle.png").exists()
 
 
-def test_sweep_with_a_bad_point_is_refused_before_any_work(tmp_path, capsys):
+def test_sweep_with_a_bad_point_runs_the_others_and_reports_it(tmp_path, capsys):
     out = tmp_path / "sweep"
-    code = main(["sweep", "scenes/coupled.toml", *SHORT, "--grid", "vibration.k_v=2,-1", "--out", str(out)])
-    assert code == EXIT_BAD_INPUT and "vibration.k_v" in capsys.readouterr().err
-    assert not out.exists()
+    code = main(["sweep", "scenes/coupled.toml", *SHORT, "--grid", "vibration.k_v=2,-1", "--out", str(out),
+                 "--json"])
+    assert code == EXIT_POINTS_FAILED
+    captured = capsys.readouterr()
+    assert "failed vibration.k_v=-1: invalid scene: vibration.k_v" in captured.err
+    good, bad = json.loads(captured.out)
+    assert 0 < good["F_dv_over_F_d0"] < 1 and "error" not in good
+    assert bad == {"vibration.k_v": -1, "error": bad["error"]} and "vibration.k_v" in bad["error"]
+    with open(out / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [(r["vibration.k_v"], r["error"] == "") for r in rows] == [("2", True), ("-1", False)]
+
+
+def test_sweep_over_a_bad_base_scene_is_refused_before_any_work(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    code = main(["sweep", "scenes/coupled.toml", "--set", "body.mass=-1", "--grid", "vibration.k_v=2,6",
+                 "--out", str(out)])
+    assert code == EXIT_BAD_INPUT and "body.mass" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_run_fe_and_analytic_json_and_results(tmp_path, capsys):

@@ -12,6 +12,9 @@ from .scene import SceneError
 
 EXIT_BAD_INPUT = 2
 EXIT_NUMERICAL = 3
+EXIT_POINTS_FAILED = 4   # a sweep finished, but some of its points failed
+EXIT_INTERRUPTED = 130   # Ctrl-C or SIGTERM, as a shell reports SIGINT
+FAILURES_LISTED = 10     # failed points named on stderr; results.csv has them all
 
 
 def _scene_arguments(parser):
@@ -40,8 +43,16 @@ def build_parser() -> argparse.ArgumentParser:
     _scene_arguments(sweep)
     sweep.add_argument("--grid", action="append", required=True, metavar="KEY=VALUES",
                        help="a grid axis: comma list or start:stop:count (repeatable)")
-    sweep.add_argument("--workers", type=int, help="processes (default: both cores)")
+    sweep.add_argument("--fe", action="store_true",
+                       help="run the FE model (and the analytic stepper) at every point")
+    sweep.add_argument("--workers", type=int,
+                       help="processes, one run each (default: both cores; under mpirun: the ranks)")
     return parser
+
+
+def _number(value, form: str = ".4f") -> str:
+    """A result for people: ``none`` where there is no value (F_dv/F_d0 without friction)."""
+    return "none" if value is None else format(value, form)
 
 
 def _emit(args, document, text: str) -> None:
@@ -62,61 +73,47 @@ def cmd_analytic(args) -> None:
         plots.drive_force_history(runs, scene, stage / "drive_force.png")
         plots.friction_last_cycles(runs, scene, stage / "friction_last_cycles.png")
     _emit(args, {**summary, "out": str(target)},
-          f"F_dv/F_d0 = {summary['F_dv_over_F_d0']:.4f} (F_dv = {summary['F_dv']:.4f} N, "
+          f"F_dv/F_d0 = {_number(summary['F_dv_over_F_d0'])} (F_dv = {summary['F_dv']:.4f} N, "
           f"F_d0 = {summary['F_d0']:.4f} N) in {summary['wall_time_s']:.3f} s; results in {target}")
 
 
 def cmd_run(args) -> None:
-    from .analytic.run import run
-    from .analytic.summary import summarize
-    from .fem import run_fe
     from .picture import block_picture
+    from .runs import fe_beside_analytic
 
     scene = scene_module.load(args.scene, args.overrides)
     target = args.out or output.default_dir(scene.name)
     with output.staged(target) as stage:
-        fe = run_fe(scene, vtk_dir=stage / "paraview")
-        analytic_series, analytic = run(scene)
-        fe_summary = {**summarize(fe.series, scene, fe.info["wall_time_s"]),
-                      "dofs": fe.info["dofs"], "contact_nodes": fe.info["contact_nodes"]}
-        rel_error = (abs(fe_summary["F_dv_over_F_d0"] - analytic["F_dv_over_F_d0"])
-                     / analytic["F_dv_over_F_d0"])
-        document = {"fe": fe_summary, "analytic": analytic, "rel_error": rel_error, "out": str(target)}
-        info = {**fe.info, "vtk": "paraview/block.pvd" if fe.info["frames"] else None}
-        output.write_scene(stage, scene)
-        output.write_summary(stage, {**document, "fe_info": info})
-        output.write_timeseries(stage, fe.series)
-        output.write_timeseries(stage, analytic_series, "analytic_timeseries.csv")
-        runs = {"FE": fe.series, "analytic": analytic_series}
+        done = fe_beside_analytic(scene, stage)
+        document = {**done.document, "out": str(target)}
+        output.write_summary(stage, {**document, "fe_info": done.fe_info})
+        runs = {"FE": done.fe.series, "analytic": done.analytic_series}
         plots.drive_force_history(runs, scene, stage / "drive_force.png")
         plots.friction_last_cycles(runs, scene, stage / "friction_last_cycles.png")
-        plots.normal_force_history(fe.series, scene, stage / "normal_force.png")
-        if fe.info["frames"]:
+        plots.normal_force_history(done.fe.series, scene, stage / "normal_force.png")
+        if done.fe_info["frames"]:
             block_picture(stage / "paraview" / "block.pvd", stage / "block.png")
+    fe, analytic = document["fe"], document["analytic"]
     _emit(args, document,
-          f"F_dv/F_d0: FE {fe_summary['F_dv_over_F_d0']:.4f} ({fe_summary['dofs']} DOFs, "
-          f"{fe_summary['wall_time_s']:.1f} s), analytic {analytic['F_dv_over_F_d0']:.4f}; "
-          f"relative difference {rel_error:.2%}; results in {target}")
+          f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['dofs']} DOFs, "
+          f"{fe['wall_time_s']:.1f} s), analytic {_number(analytic['F_dv_over_F_d0'])}; "
+          f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}")
 
 
-def cmd_sweep(args) -> None:
-    from .analytic.sweep import parse_grid, sweep
+def cmd_sweep(args) -> int:
+    from .batch import run_sweep
+    from .grid import parse_grid
 
     scene = scene_module.load(args.scene, args.overrides)
     grid = [parse_grid(text) for text in args.grid]
-    records = sweep(scene, grid, workers=args.workers, progress=not args.json)
-    target = args.out or output.default_dir(f"{scene.name}-sweep")
-    keys = [key for key, _ in grid]
-    with output.staged(target) as stage:
-        output.write_scene(stage, scene)
-        output.write_results_csv(stage, records)
-        if keys == ["vibration.k_v"]:
-            plots.ratio_against_kv(records, scene, stage / "ratio_against_kv.png")
-        elif sorted(keys) == ["vibration.k_v", "vibration.theta_deg"]:
-            plots.ratio_against_angle(records, stage / "ratio_against_angle.png")
-    ratios = [r["F_dv_over_F_d0"] for r in records]
-    _emit(args, records, f"{len(records)} points, F_dv/F_d0 from {min(ratios):.4f} to "
-                         f"{max(ratios):.4f}; results in {target}")
+    outcome = run_sweep(scene, grid, "fe" if args.fe else "analytic", args.out, args.workers)
+    if outcome.leader:  # under mpirun, rank 0 speaks for all
+        if args.json:
+            print(json.dumps(outcome.records, indent=2))
+        print(outcome.summary_line(), file=sys.stderr)
+        for record in outcome.failed[:FAILURES_LISTED]:
+            print(f"  failed {outcome.name(record)}: {record['error']}", file=sys.stderr)
+    return EXIT_POINTS_FAILED if outcome.failed else 0
 
 
 COMMANDS = {"analytic": cmd_analytic, "run": cmd_run, "sweep": cmd_sweep}
@@ -125,14 +122,17 @@ COMMANDS = {"analytic": cmd_analytic, "run": cmd_run, "sweep": cmd_sweep}
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        COMMANDS[args.command](args)
+        return COMMANDS[args.command](args) or 0
+    except KeyboardInterrupt:
+        print("vibrofric: interrupted; what had finished is kept: rerun the same command "
+              "to resume", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except SceneError as err:
         print(f"vibrofric: invalid scene: {err}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except NumericalError as err:
         print(f"vibrofric: numerical trouble: {err}", file=sys.stderr)
         return EXIT_NUMERICAL
-    return 0
 
 
 if __name__ == "__main__":

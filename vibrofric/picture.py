@@ -1,27 +1,41 @@
 """A picture of the block from its ParaView series (pyvista, off-screen).
 
-The contact face seen from below, coloured by contact pressure, with the
-friction traction as arrows, over the deformed block drawn translucent.
+The contact face coloured by contact pressure, with the friction traction as
+arrows, inside the block drawn translucent.
+
+VTK's renderer aborts (std::bad_alloc) in a process that has loaded DOLFINx
+before it, so ``block_picture`` renders in a child process of its own:
+``python -m vibrofric.picture SERIES.pvd PICTURE.png``.
 """
 
 import os
+import subprocess
+import sys
 
-# Render with OSMesa (Debian's libosmesa6): no display needed.
-os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+import numpy as np
 
-import numpy as np  # noqa: E402
-import pyvista as pv  # noqa: E402
+
+def block_picture(pvd_path, png_path) -> None:
+    """Contact pressure and friction traction of the series' last frame, as PNG."""
+    subprocess.run([sys.executable, "-m", "vibrofric.picture", str(pvd_path), str(png_path)],
+                   check=True, capture_output=True)
 
 
 def last_frame(pvd_path):
     """The last time step of a .pvd series and its time."""
+    import pyvista as pv
+
     reader = pv.get_reader(str(pvd_path))
     reader.set_active_time_point(len(reader.time_values) - 1)
     return reader.read().combine(), reader.time_values[-1]
 
 
-def block_picture(pvd_path, png_path) -> None:
-    """Contact pressure and friction traction of the last frame, as PNG."""
+def render(pvd_path, png_path) -> None:
+    """Draw the picture in this process (one that has not loaded DOLFINx)."""
+    # OSMesa (Debian's libosmesa6): no display needed.
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+    import pyvista as pv
+
     block, time = last_frame(pvd_path)
     z = block.points[:, 2]
     on_face = z <= z.min() + 1e-9 * np.ptp(z)
@@ -46,3 +60,7 @@ def block_picture(pvd_path, png_path) -> None:
     plotter.reset_camera()
     plotter.screenshot(str(png_path))
     plotter.close()
+
+
+if __name__ == "__main__":
+    render(*sys.argv[1:3])

@@ -10,6 +10,7 @@ from .analytic.closed_form import coulomb_ratio  # noqa: E402
 from .analytic.series import PLOT_CYCLES  # noqa: E402
 
 HISTORY_END = 0.3  # s: the paper plots time histories to 0.3 s (Figs 7, 10)
+LIMIT_POINTS = 80  # on the rigid Coulomb limit's curve; each is a 16 ms quadrature
 
 
 def drive_force_history(runs: dict, scene, path) -> None:
@@ -46,13 +47,26 @@ def friction_last_cycles(runs: dict, scene, path) -> None:
     plt.close(fig)
 
 
-def ratio_against_kv(records: list, scene, path, key="F_dv_over_F_d0") -> None:
-    """F_dv/F_d0 against k_v (Fig 6 / Fig 9 analogue), with the rigid Coulomb limit."""
-    k_v = np.array([r["vibration.k_v"] for r in records], float)
+def _column(rows: list, key: str) -> np.ndarray:
+    """One column of a sweep's rows as floats; a missing ratio (None) becomes NaN."""
+    return np.array([r[key] for r in rows], float)
+
+
+def ratio_against_kv(records: list, scene, path, key="F_dv_over_F_d0", fe_key=None) -> None:
+    """F_dv/F_d0 against k_v (Fig 6 / Fig 9 analogue), with the rigid Coulomb limit.
+
+    ``records`` are a sweep's rows, flattened (output.flatten); ``key`` is the
+    analytic stepper's ratio, drawn as the curve, and ``fe_key``, if given, the
+    FE model's, drawn as markers over it.
+    """
+    k_v = _column(records, "vibration.k_v")
     order = np.argsort(k_v)
     fig, ax = plt.subplots(figsize=(7, 4))
-    ax.plot(k_v[order], np.array([r[key] for r in records])[order], "o-", ms=4, label="Dahl stepper")
-    fine = np.linspace(max(k_v.min(), 1e-3), k_v.max(), 200)
+    ax.plot(k_v[order], _column(records, key)[order], "o-", ms=4, label="Dahl stepper")
+    if fe_key is not None:
+        ax.plot(k_v[order], _column(records, fe_key)[order], "s", ms=7, mfc="none", mew=1.5,
+                label="FE model")
+    fine = np.linspace(max(k_v.min(), 1e-3), k_v.max(), LIMIT_POINTS)
     limit = [coulomb_ratio(k, scene.vibration.theta_deg, scene.contact.eta_y) for k in fine]
     ax.plot(fine, limit, "k:", lw=1, label="rigid Coulomb limit")
     ax.set(xlabel=r"$k_v = v_a / v_d$", ylabel=r"$F_{dv} / F_{d0}$", ylim=(0, 1.1),
@@ -63,17 +77,40 @@ def ratio_against_kv(records: list, scene, path, key="F_dv_over_F_d0") -> None:
     plt.close(fig)
 
 
-def ratio_against_angle(records: list, path, key="F_dv_over_F_d0") -> None:
-    """F_dv/F_d0 against theta, one curve per k_v (Fig 12 analogue)."""
+def ratio_against_angle(records: list, path, key="F_dv_over_F_d0", fe_key=None) -> None:
+    """F_dv/F_d0 against theta, one curve per k_v (Fig 12 analogue); with
+    ``fe_key``, the FE model's values as markers of the same colour."""
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for k_v in sorted({r["vibration.k_v"] for r in records}):
         rows = sorted((r for r in records if r["vibration.k_v"] == k_v),
                       key=lambda r: r["vibration.theta_deg"])
-        ax.plot([r["vibration.theta_deg"] for r in rows], [r[key] for r in rows],
-                "o-", ms=3, label=f"$k_v$ = {k_v:g}")
+        theta = _column(rows, "vibration.theta_deg")
+        line, = ax.plot(theta, _column(rows, key), "o-", ms=3, label=f"$k_v$ = {k_v:g}")
+        if fe_key is not None:
+            ax.plot(theta, _column(rows, fe_key), "s", ms=7, mfc="none", mew=1.5, color=line.get_color())
+    if fe_key is not None:
+        ax.plot([], [], "ks", ms=7, mfc="none", label="FE model (markers)")
     ax.set(xlabel=r"vibration angle $\theta$ (°)", ylabel=r"$F_{dv} / F_{d0}$",
            xticks=range(0, 361, 45), ylim=(0, None))
     ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def error_per_point(records: list, keys: list, path) -> None:
+    """|FE - analytic| / analytic on F_dv/F_d0 at every point of an FE sweep:
+    against the grid's last key, one line per combination of the others."""
+    *outer, inner = keys
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for group in dict.fromkeys(tuple(r[k] for k in outer) for r in records):
+        rows = [r for r in records if tuple(r[k] for k in outer) == group]
+        label = ", ".join(f"{k.split('.')[-1]} = {v}" for k, v in zip(outer, group)) or None
+        ax.plot([r[inner] for r in rows], 100 * _column(rows, "rel_error"), "o-", ms=4, label=label)
+    ax.set(xlabel=inner, ylabel="|FE - analytic| / analytic (%)", ylim=(0, None),
+           title=r"FE model against the analytic stepper: $F_{dv} / F_{d0}$")
+    if outer:
+        ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -1,0 +1,242 @@
+"""Batch sweeps (vibrofric.batch): FE grids that agree however they are run,
+survive being killed, and keep going past a failed point."""
+
+import csv
+import json
+import os
+import pathlib
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from vibrofric.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_POINTS_FAILED, main
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+SCENE = str(ROOT / "scenes" / "longitudinal.toml")
+# The tiny mesh (24 DOFs) to 0.16 s, no ParaView frames: an FE point in ~0.3 s once warm.
+TINY_FE = ["--set", "time.T=0.16", "--set", "fem.mesh=tiny", "--set", "fem.output_every=0"]
+GRID_2X2 = ["--grid", "vibration.k_v=2,6", "--grid", "vibration.theta_deg=0,90"]
+
+
+def fe_sweep(out, *more):
+    return ["sweep", SCENE, *TINY_FE, *GRID_2X2, "--fe", "--out", str(out), *more]
+
+
+def analytic_sweep(out, *more):
+    return ["sweep", SCENE, "--set", "time.T=0.2", "--grid", "vibration.k_v=2,6", "--out", str(out), *more]
+
+
+def command(args):
+    """The vibrofric command in a fresh interpreter, as a user runs it.
+
+    FE sweeps run this way, never in the test process: once DOLFINx is loaded
+    in a process, pyvista's rendering aborts there if VTK was not loaded first
+    (std::bad_alloc in VTK's std::regex), which would take down test_cli's
+    block picture.
+    """
+    return [sys.executable, "-m", "vibrofric.cli", *args]
+
+
+def environment(**more):
+    return {**os.environ, "PYTHONPATH": str(ROOT), **more}
+
+
+def vibrofric(args):
+    return subprocess.run(command(args), env=environment(), cwd=ROOT, capture_output=True, text=True,
+                          timeout=300)
+
+
+def results(out) -> list:
+    with open(out / "results.csv") as f:
+        return list(csv.DictReader(f))
+
+
+def without_timing(rows) -> list:
+    """The rows less their wall-time columns, the only ones that differ between runs."""
+    return [{k: v for k, v in row.items() if not k.endswith("wall_time_s")} for row in rows]
+
+
+def summary_times(out) -> dict:
+    """Each finished point's summary.json modification time: rewritten only if rerun.
+    (Hidden directories are partials, not yet renamed into place: not finished.)"""
+    return {p.parent.name: p.stat().st_mtime_ns for p in (out / "points").glob("*/summary.json")
+            if not p.parent.name.startswith(".")}
+
+
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory):
+    """The 2 x 2 FE grid run serially."""
+    out = tmp_path_factory.mktemp("serial") / "sweep"
+    done = vibrofric(fe_sweep(out, "--workers", "1"))
+    assert done.returncode == 0, done.stderr
+    return out
+
+
+def test_serial_sweep_writes_every_point_and_the_study(serial):
+    rows = results(serial)
+    assert [(r["vibration.k_v"], r["vibration.theta_deg"]) for r in rows] == [
+        ("2", "0"), ("2", "90"), ("6", "0"), ("6", "90")]
+    assert list(rows[0])[:3] == ["vibration.k_v", "vibration.theta_deg", "fe.F_dv_over_F_d0"]
+    assert {"analytic.F_dv_over_F_d0", "rel_error", "error"} <= set(rows[0])
+    assert all(r["error"] == "" and 0 < float(r["fe.F_dv_over_F_d0"]) < 1 for r in rows)
+    point = serial / "points" / "vibration.k_v=6,vibration.theta_deg=0"
+    assert {"scene.toml", "summary.json", "timeseries.csv", "analytic_timeseries.csv"} <= {
+        p.name for p in point.iterdir()}
+    summary = json.loads((point / "summary.json").read_text())
+    assert summary["point"] == {"vibration.k_v": 6, "vibration.theta_deg": 0}
+    assert float(rows[2]["fe.F_dv_over_F_d0"]) == summary["result"]["fe"]["F_dv_over_F_d0"]
+    assert {"scene.toml", "ratio_against_angle.png", "fe_error.png"} <= {p.name for p in serial.iterdir()}
+
+
+def test_two_processes_give_the_serial_results(serial, tmp_path):
+    out = tmp_path / "pool"
+    done = vibrofric(fe_sweep(out, "--workers", "2", "--json"))
+    assert done.returncode == 0, done.stderr
+    records = json.loads(done.stdout)
+    assert len(records) == 4 and {"fe", "analytic", "rel_error"} <= set(records[0])
+    assert "sweep: 4 points (0 reused), 0 failed" in done.stderr and "worst |FE - analytic|" in done.stderr
+    assert without_timing(results(out)) == without_timing(results(serial))
+
+
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun")
+def test_mpirun_on_two_ranks_gives_the_serial_results(serial, tmp_path):
+    out = tmp_path / "mpi"
+    # Open MPI refuses to run as root unless told twice
+    env = environment(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    done = subprocess.run(["mpirun", "-n", "2", "--oversubscribe", *command(fe_sweep(out))],
+                          env=env, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.count("sweep: 4 points") == 1  # rank 0 reports for both
+    assert without_timing(results(out)) == without_timing(results(serial))
+
+
+def kill_after_its_first_point(args, out) -> None:
+    """Start the sweep, SIGTERM it as soon as a point has finished, and see it stop."""
+    sweep = subprocess.Popen(command(args), env=environment(), cwd=ROOT,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not (out / "points").is_dir() or not summary_times(out):
+        assert sweep.poll() is None and time.monotonic() < deadline, sweep.stderr.read()
+        time.sleep(0.01)
+    sweep.send_signal(signal.SIGTERM)
+    assert sweep.wait(timeout=60) == EXIT_INTERRUPTED, sweep.stderr.read()
+
+
+def test_a_killed_sweep_resumes_without_rerunning_finished_points(serial, tmp_path):
+    out = tmp_path / "killed"
+    kill_after_its_first_point(fe_sweep(out, "--workers", "1"), out)
+
+    finished = summary_times(out)
+    assert 1 <= len(finished) < 4
+    # nothing half-written: the point in flight left at most a partial (hidden) directory
+    assert {p.name for p in (out / "points").iterdir() if not p.name.startswith(".")} == set(finished)
+    assert len(results(out)) == len(finished)
+
+    done = vibrofric(fe_sweep(out, "--workers", "1"))
+    assert done.returncode == 0, done.stderr
+    assert f"({len(finished)} reused)" in done.stderr
+    assert {name: summary_times(out)[name] for name in finished} == finished
+    assert without_timing(results(out)) == without_timing(results(serial))
+    assert not [p for p in (out / "points").iterdir() if p.name.startswith(".")]
+
+
+def processes_running(text) -> list:
+    """Process ids whose command line mentions ``text`` (forked workers share their parent's)."""
+    pids = []
+    for cmdline in pathlib.Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            if text in cmdline.read_bytes().decode(errors="replace"):
+                pids.append(int(cmdline.parent.name))
+        except OSError:  # ended meanwhile
+            pass
+    return pids
+
+
+def test_a_killed_pool_stops_its_workers_and_resumes(tmp_path):
+    def pool_sweep(out):  # ~30 ms a point, 30 points on two workers (and no figure for this grid)
+        return ["sweep", SCENE, "--set", "time.T=0.5", "--grid", "vibration.theta_deg=0:348:30",
+                "--out", str(out), "--workers", "2"]
+
+    out = tmp_path / "killed"
+    kill_after_its_first_point(pool_sweep(out), out)
+    time.sleep(0.5)
+    assert processes_running(str(out)) == []  # the workers went with it
+    finished = summary_times(out)
+    assert 1 <= len(finished) < 30 and len(results(out)) == len(finished)
+
+    assert main(pool_sweep(out)) == 0
+    assert {name: summary_times(out)[name] for name in finished} == finished
+    whole = tmp_path / "whole"
+    assert main(pool_sweep(whole)) == 0
+    assert without_timing(results(out)) == without_timing(results(whole))
+
+
+def test_an_invalid_point_fails_alone_and_is_reported(tmp_path):
+    out = tmp_path / "sweep"
+    done = vibrofric(["sweep", SCENE, *TINY_FE, "--grid", "vibration.k_v=6,-1", "--fe", "--out", str(out)])
+    assert done.returncode == EXIT_POINTS_FAILED, done.stderr
+    assert "1 failed" in done.stderr
+    assert "failed vibration.k_v=-1: invalid scene: vibration.k_v" in done.stderr
+    good, bad = results(out)
+    assert good["error"] == "" and 0 < float(good["fe.F_dv_over_F_d0"]) < 1
+    assert bad["vibration.k_v"] == "-1" and bad["fe.F_dv_over_F_d0"] == ""
+    assert bad["error"].startswith("invalid scene: vibration.k_v: must be >= 0")
+    assert "error" in json.loads((out / "points" / "vibration.k_v=-1" / "summary.json").read_text())
+
+
+def test_a_point_that_fails_in_its_run_is_recorded_and_retried_alone(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    # the paper's explicit update diverges at a stiff contact: numerical trouble in the run
+    args = ["sweep", SCENE, "--set", "time.T=0.2", "--set", "contact.update=paper",
+            "--grid", "contact.k_t=8e7,8e9", "--out", str(out)]
+    assert main(args) == EXIT_POINTS_FAILED
+    assert "failed contact.k_t=8000000000.0: numerical trouble" in capsys.readouterr().err
+    failed = out / "points" / "contact.k_t=8000000000.0"
+    assert sorted(p.name for p in failed.iterdir()) == ["scene.toml", "summary.json"]
+    assert [r["error"] == "" for r in results(out)] == [True, False]
+
+    before = summary_times(out)
+    assert main(args) == EXIT_POINTS_FAILED
+    after = summary_times(out)
+    assert after["contact.k_t=80000000.0"] == before["contact.k_t=80000000.0"]
+    assert after["contact.k_t=8000000000.0"] != before["contact.k_t=8000000000.0"]
+
+
+def test_partial_point_directories_are_ignored_and_cleared(tmp_path):
+    out = tmp_path / "sweep"
+    assert main(analytic_sweep(out)) == 0
+    # what a process killed mid-write (SIGKILL, node loss) leaves: a staging
+    # directory that was never renamed into place, and no directory for its point
+    point = out / "points" / "vibration.k_v=6"
+    partial = out / "points" / ".vibration.k_v=6.part-123-abcdef12"
+    point.rename(partial)
+    before = summary_times(out)
+    assert main(analytic_sweep(out)) == 0
+    assert not partial.exists() and (point / "summary.json").exists()
+    assert summary_times(out)["vibration.k_v=2"] == before["vibration.k_v=2"]
+    assert len(results(out)) == 2
+
+
+def test_a_changed_base_scene_reruns_every_point(tmp_path):
+    out = tmp_path / "sweep"
+    assert main(analytic_sweep(out)) == 0
+    first = results(out)
+    before = summary_times(out)
+    assert main(analytic_sweep(out, "--set", "contact.mu=0.12")) == 0
+    assert all(summary_times(out)[name] != mtime for name, mtime in before.items())
+    assert [float(r["F_d0"]) for r in first] == [5.5, 5.5]
+    assert [float(r["F_d0"]) for r in results(out)] == pytest.approx([6.6, 6.6])
+
+
+@pytest.mark.parametrize("mistake", [["--set", "time.dt=0"], ["--grid", "bogus.key=1,2"],
+                                     ["--grid", "vibration.f=1000,1000"]])
+def test_command_line_mistakes_are_refused_before_any_work(tmp_path, capsys, mistake):
+    out = tmp_path / "never"
+    code = main(["sweep", SCENE, "--grid", "vibration.k_v=2,6", *mistake, "--fe", "--out", str(out)])
+    assert code == EXIT_BAD_INPUT
+    assert mistake[1].split("=")[0] in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,16 @@
+"""Batch studies: a grid of scenes run to disk, resumable, on both cores or over MPI.
+
+One idea per module:
+
+    points  a grid point: its directory, running it into that directory
+            (results or error, written whole), reading it back
+    ledger  the finished points as their directories hold them; results.csv
+    mpi     under mpirun: the ranks share the points
+    study   run_sweep(): the whole sweep, its progress bar and its report
+
+DOLFINx and mpi4py are imported only where an FE run or mpirun needs them.
+"""
+
+from .study import Outcome, run_sweep
+
+__all__ = ["Outcome", "run_sweep"]

@@ -1,0 +1,143 @@
+"""The points of a sweep: each one a directory, written whole when the point ends.
+
+``<sweep>/points/<name>/`` (name: grid.point_name, e.g.
+``vibration.k_v=2,vibration.theta_deg=45.0``) holds
+
+    summary.json  {"point": {grid key: value}, "mode": "analytic" | "fe",
+                   "result": {...}}: the result keys of the sweep's JSON
+                   (``fe``: those of ``vibrofric run`` plus "fe_info"), or, for a
+                   failed point, "error": "invalid scene: ..." instead of "result"
+    scene.toml    the point's scene as run (none if its values make no valid scene)
+    fe points also: timeseries.csv, analytic_timeseries.csv and, if
+                   fem.output_every > 0, the ParaView series paraview/block.pvd
+
+A point's directory appears whole or not at all (output.staged), so a
+directory that is there is a finished point: done, or failed with its error.
+"""
+
+import functools
+import json
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+
+from .. import output
+from .. import scene as scene_module
+from ..analytic.series import NumericalError
+from ..grid import grid_points, unique_names
+from ..parallel import stop_if_interrupted
+from ..scene import Scene, SceneError
+
+ERROR = "error"  # a failed point's summary.json and record hold why under this key
+PLAIN_ERRORS = {SceneError: "invalid scene", NumericalError: "numerical trouble"}
+
+
+@dataclass(frozen=True)
+class Point:
+    """One grid point: its values, where it is written, and the scene it runs.
+
+    scene    None when the values make no valid scene; then refusal says why
+    """
+
+    values: dict
+    directory: Path
+    scene: Scene | None = None
+    refusal: str | None = None
+
+    @property
+    def name(self) -> str:
+        return self.directory.name
+
+    @functools.cached_property
+    def scene_toml(self) -> str | None:
+        """scene.toml as this point would write it: how a rerun recognises its results."""
+        return None if self.scene is None else scene_module.to_toml(self.scene)
+
+
+def plan(scene, grid, directory: Path) -> list:
+    """The grid's points in grid order, each with its scene or the reason it has none.
+
+    A grid that names an unknown key or a point twice is the command line's
+    mistake, refused (SceneError) before any work; a value that makes no valid
+    scene is not: that point fails, the others run.
+    """
+    for key, _ in grid:
+        scene.get(key)
+    values = grid_points(grid)
+    points = []
+    for name, point_values in zip(unique_names(values), values):
+        try:
+            points.append(Point(point_values, directory / name, scene.with_values(point_values)))
+        except SceneError as err:
+            points.append(Point(point_values, directory / name, refusal=_describe(err)))
+    return points
+
+
+def _describe(err: Exception) -> str:
+    return f"{PLAIN_ERRORS.get(type(err), type(err).__name__)}: {err}"
+
+
+def _run_analytic(scene, directory: Path) -> dict:
+    """The analytic stepper: only scene.toml and the summary are kept, as a
+    125-point sweep takes seconds (``vibrofric analytic`` on the point's
+    scene.toml gives the time series and plots)."""
+    from ..analytic.run import run
+
+    _, summary = run(scene)
+    output.write_scene(directory, scene)
+    return {"result": summary}
+
+
+def _run_fe(scene, directory: Path) -> dict:
+    from ..runs import fe_beside_analytic
+
+    done = fe_beside_analytic(scene, directory)
+    return {"result": done.document, "fe_info": done.fe_info}
+
+
+RUNNERS = {"analytic": _run_analytic, "fe": _run_fe}
+
+
+def run_point(point: Point, mode: str) -> None:
+    """Run one point and write its directory whole: its results, or its error.
+
+    Any exception from the run fails this point only (recorded with its
+    message; with a traceback if it is not a plain SceneError or
+    NumericalError); an interrupt leaves nothing.
+    """
+    failure = {ERROR: point.refusal}
+    if point.scene is not None:
+        try:
+            with output.staged(point.directory) as stage:
+                ran = RUNNERS[mode](point.scene, stage)
+                output.write_summary(stage, {"point": point.values, "mode": mode, **ran})
+                stop_if_interrupted()  # a run a swallowed interrupt cut short is not kept
+            return
+        except Exception as err:  # a failed point is recorded, and the sweep goes on
+            stop_if_interrupted()  # unless the failure is an interrupt's doing
+            failure = {ERROR: _describe(err)}
+            if type(err) not in PLAIN_ERRORS:
+                failure["traceback"] = traceback.format_exc()
+    with output.staged(point.directory) as stage:
+        if point.scene is not None:
+            output.write_scene(stage, point.scene)
+        output.write_summary(stage, {"point": point.values, "mode": mode, **failure})
+
+
+def read_point(point: Point, mode: str) -> dict | None:
+    """The point's record as its directory holds it: the grid values, then the
+    result keys or "error". None if there is no directory, or it holds another
+    sweep's point (another scene.toml, e.g. after a change to the base scene,
+    or the other mode): that one is rerun and replaced."""
+    try:
+        summary = json.loads((point.directory / "summary.json").read_text())
+    except (FileNotFoundError, json.JSONDecodeError):
+        return None
+    # a point refused now has no scene, and its directory none either
+    written = point.directory / "scene.toml"
+    scene_toml = written.read_text() if written.exists() else None
+    if summary.get("mode") != mode or scene_toml != point.scene_toml:
+        return None
+    if ERROR in summary:
+        return {**point.values, ERROR: summary[ERROR]}
+    return {**point.values, **summary["result"]}

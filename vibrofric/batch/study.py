@@ -1,0 +1,186 @@
+"""A whole sweep, run to disk: plan, skip what is done, run the rest, report.
+
+    <out>/scene.toml        the base scene, before the grid's values
+    <out>/points/<name>/    one directory per grid point (points.py)
+    <out>/results.csv       one row per finished point, from the directories (ledger.py)
+    <out>/*.png             the study's figures, at the end
+
+Points run on a pool of ``workers`` processes, or serially with one worker,
+or, under mpirun, shared out across the ranks (mpi.py). Whichever, a rerun
+with the same ``out`` runs only the points whose directories are missing,
+failed, or hold another scene or mode; a killed sweep loses only the points
+it was running (their partial directories are cleared on the rerun).
+"""
+
+import functools
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from tqdm import tqdm
+
+from .. import output, plots
+from ..grid import point_name
+from ..parallel import default_workers, interruptible, run_on_pool
+from . import mpi
+from .ledger import Ledger
+from .points import ERROR, plan, run_point
+
+RATIO = "F_dv_over_F_d0"
+
+
+@dataclass
+class Outcome:
+    """What a sweep left on disk, as the process reporting it sees it.
+
+    records  every finished point in grid order: grid values, then the result keys or "error"
+    leader   True in the process that reports (rank 0 under mpirun)
+    """
+
+    records: list
+    keys: list
+    out: Path
+    reused: int
+    wall_time_s: float
+    leader: bool
+
+    @property
+    def failed(self) -> list:
+        return [r for r in self.records if ERROR in r]
+
+    def name(self, record) -> str:
+        return point_name({key: record[key] for key in self.keys})
+
+    def worst_fe_error(self):
+        """(|FE - analytic| / analytic, point) at its largest over the FE points, or None."""
+        errors = [(r["rel_error"], self.name(r)) for r in self.records if r.get("rel_error") is not None]
+        return max(errors, default=None)
+
+    def summary_line(self) -> str:
+        line = (f"sweep: {len(self.records)} points ({self.reused} reused), {len(self.failed)} failed, "
+                f"{self.wall_time_s:.1f} s")
+        worst = self.worst_fe_error()
+        if worst is not None:
+            line += f"; worst |FE - analytic| / analytic {worst[0]:.2%} at {worst[1]}"
+        return f"{line}; results in {self.out}"
+
+
+class Progress:
+    """The bar on stderr: finished points of the grid, done / failed, ETA.
+
+    It counts what the ledger holds, so under mpirun rank 0's bar also moves
+    for the other ranks' points (each time it reads the directories).
+    """
+
+    def __init__(self, ledger: Ledger, enabled: bool):
+        self.ledger = ledger
+        self.bar = tqdm(total=len(ledger.points), initial=len(ledger.records), desc="sweep",
+                        unit="point", disable=not enabled)
+        self._postfix()
+
+    def _postfix(self):
+        failed = len(self.ledger.failed)
+        self.bar.set_postfix(done=len(self.ledger.records) - failed, failed=failed, refresh=False)
+
+    def update(self):
+        self._postfix()
+        self.bar.update(len(self.ledger.records) - self.bar.n)
+
+    def close(self):
+        self.bar.close()
+
+
+def _prepare(scene, ledger: Ledger, out: Path) -> list:
+    """Ready ``out`` for a first run or a rerun; return the indices of the points to run.
+
+    Clears what killed writers left, and the failed points, which run again
+    (so that every point directory there is final for this run).
+    """
+    (out / "points").mkdir(parents=True, exist_ok=True)
+    output.remove_partials(out)
+    output.remove_partials(out / "points")
+    output.write_scene(out, scene)
+    ledger.read()
+    for point in ledger.points:
+        if point.name in ledger.records and not ledger.is_done(point):
+            output.remove(point.directory)
+    ledger.read()
+    ledger.write_csv()
+    return [i for i, point in enumerate(ledger.points) if not ledger.is_done(point)]
+
+
+def _figures(ledger: Ledger, keys: list, scene, out: Path) -> None:
+    """The study's figures from its done points: F_dv/F_d0 against k_v (Fig 6/9)
+    or against theta per k_v (Fig 12), FE markers over the analytic curves; and
+    for FE the relative difference per point."""
+    rows = [output.flatten(r) for r in ledger.in_grid_order() if ERROR not in r]
+    if not rows:
+        return
+    fe = ledger.mode == "fe"
+    curve, markers = (f"analytic.{RATIO}", f"fe.{RATIO}") if fe else (RATIO, None)
+    figures = {}
+    if keys == ["vibration.k_v"]:
+        figures["ratio_against_kv.png"] = functools.partial(
+            plots.ratio_against_kv, rows, scene, key=curve, fe_key=markers)
+    elif sorted(keys) == ["vibration.k_v", "vibration.theta_deg"]:
+        figures["ratio_against_angle.png"] = functools.partial(
+            plots.ratio_against_angle, rows, key=curve, fe_key=markers)
+    if fe:
+        figures["fe_error.png"] = functools.partial(plots.error_per_point, rows, keys)
+    for name, draw in figures.items():
+        with output.staged_file(out / name) as partial:
+            draw(partial)
+
+
+def run_sweep(scene, grid, mode: str, out=None, workers=None) -> Outcome:
+    """Run ``mode`` ("analytic" or "fe") at every point of ``grid`` into ``out``
+    (default results/<scene>-sweep-<time>/), resuming what is there, on
+    ``workers`` processes (default: both cores) or, under mpirun, the ranks.
+
+    Raises SceneError before any work if the grid names an unknown key or a
+    point twice; KeyboardInterrupt on Ctrl-C or SIGTERM, with every finished
+    point kept and results.csv rewritten from them.
+    """
+    start = time.perf_counter()
+    keys = [key for key, _ in grid]
+    comm = mpi.world()
+    leader = comm is None or comm.rank == 0
+    out = Path(out or output.default_dir(f"{scene.name}-sweep"))
+    if comm is not None:
+        out = comm.bcast(out, root=0)  # rank 0's time stamp in the default name
+    ledger = Ledger(plan(scene, grid, out / "points"), mode, out)
+    todo = _prepare(scene, ledger, out) if leader else None
+    if comm is not None:
+        todo = comm.bcast(todo, root=0)  # rank 0's reading of the directories, for all
+    todo = [ledger.points[i] for i in todo]
+    reused = len(ledger.points) - len(todo)
+    bar = Progress(ledger, enabled=leader)
+
+    def finished(point, _result=None):
+        # under mpirun the other ranks' points land too: read every directory
+        ledger.read(None if comm is not None else [point])
+        ledger.write_csv(throttled=True)
+        bar.update()
+
+    run = functools.partial(run_point, mode=mode)
+    workers = workers or default_workers()
+    try:
+        with interruptible():
+            if comm is None and workers > 1 and len(todo) > 1:
+                run_on_pool(run, todo, workers, finished)
+            else:
+                for point in todo if comm is None else mpi.share(todo, comm):
+                    run(point)
+                    finished(point)
+                if comm is not None:
+                    mpi.wait_for_all(comm)
+    finally:
+        ledger.read()
+        if leader:
+            ledger.write_csv()
+        bar.update()
+        bar.close()
+    if leader:
+        _figures(ledger, keys, scene, out)
+    return Outcome(ledger.in_grid_order(), keys, out, reused,
+                   time.perf_counter() - start, leader)

@@ -1,0 +1,98 @@
+"""Process pools that stop at once on Ctrl-C or SIGTERM.
+
+Ctrl-C reaches every process of the terminal's process group; SIGTERM (kill,
+a batch scheduler's time limit) often only the parent. Either way the parent
+alone decides: its workers ignore Ctrl-C, interruptible() turns both signals
+into KeyboardInterrupt in the parent, and on the way out the parent terminates
+its workers rather than wait for their tasks (an FE run can take minutes). A
+task cut short must therefore leave nothing that looks finished: write its
+results with output.staged().
+"""
+
+import contextlib
+import multiprocessing
+import os
+import signal
+import sys
+from concurrent.futures import ProcessPoolExecutor, as_completed
+
+_received = None  # the signal that arrived within interruptible(), by name
+
+
+@contextlib.contextmanager
+def interruptible():
+    """Within: Ctrl-C and SIGTERM raise KeyboardInterrupt in the main thread,
+    so that ``finally`` blocks and staged() clean-ups run; and the signal is
+    remembered (stop_if_interrupted), as C++ code that calls back into Python
+    (DOLFINx building a mesh) can swallow the exception and carry on.
+
+    A Ctrl-C that is ignored (a job started in the background) stays ignored.
+    """
+    global _received
+    _received = None
+
+    def interrupt(signum, frame):
+        global _received
+        _received = signal.Signals(signum).name
+        raise KeyboardInterrupt(_received)
+
+    previous = {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
+    for number, handler in previous.items():
+        if handler is not signal.SIG_IGN:
+            signal.signal(number, interrupt)
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
+
+
+def stop_if_interrupted() -> None:
+    """Raise KeyboardInterrupt if a signal arrived within interruptible(), even
+    one whose exception was swallowed: call it before keeping a result that
+    such a signal may have cut short."""
+    if _received is not None:
+        raise KeyboardInterrupt(_received)
+
+
+def default_workers() -> int:
+    """Both cores of a workstation: one process per core, two at most by default,
+    as FE runs on more processes than cores only slow each other down."""
+    return min(2, os.cpu_count() or 1)
+
+
+def _leave_interrupts_to_the_parent():
+    """In each worker: Ctrl-C is the parent's to handle, and SIGTERM, which
+    only the parent sends a worker, ends it at once (a forked worker would
+    otherwise inherit interruptible()'s handler and carry on with its next task)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+def _start_method() -> str:
+    """Fork (quick, and scripts need no ``__main__`` guard), unless this process
+    has initialized MPI (DOLFINx ran in it: a test session), which a forked
+    child must not inherit: then start the workers afresh."""
+    mpi = sys.modules.get("mpi4py.MPI")
+    return "spawn" if mpi is not None and mpi.Is_initialized() else "fork"
+
+
+def run_on_pool(function, tasks, workers: int, on_result) -> None:
+    """``function(task)`` for every task on ``workers`` processes, one task per
+    process at a time; ``on_result(task, result)`` in the parent as each ends.
+
+    An exception from a task, or an interrupt, ends the whole pool.
+    """
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(_start_method()),
+                               initializer=_leave_interrupts_to_the_parent)
+    try:
+        futures = {pool.submit(function, task): task for task in tasks}
+        for future in as_completed(futures):
+            on_result(futures[future], future.result())
+    except BaseException:
+        # Python 3.14's ProcessPoolExecutor.terminate_workers() does this.
+        for process in list(pool._processes.values()):
+            process.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown()

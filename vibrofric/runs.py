@@ -1,0 +1,59 @@
+"""One FE run of a scene beside the analytic stepper, written into a directory.
+
+The work of ``vibrofric run`` and of every point of ``vibrofric sweep --fe``:
+both call fe_beside_analytic() on a staging directory (output.staged) and add
+their own summary and plots.
+"""
+
+from dataclasses import dataclass
+
+from . import output
+from .analytic.series import TimeSeries
+
+
+@dataclass
+class FEBesideAnalytic:
+    """What fe_beside_analytic() ran and wrote.
+
+    document         the JSON of ``vibrofric run`` less "out": {"fe", "analytic", "rel_error"}
+    fe_info          FEResult.info, with "vtk" the ParaView series relative to the directory
+    fe               the FEResult (series, fields)
+    analytic_series  the analytic stepper's TimeSeries
+    """
+
+    document: dict
+    fe_info: dict
+    fe: object
+    analytic_series: TimeSeries
+
+
+def relative_error(fe: float | None, analytic: float | None) -> float | None:
+    """|fe - analytic| / analytic on F_dv/F_d0; None where there is no ratio to compare."""
+    if fe is None or not analytic:
+        return None
+    return abs(fe - analytic) / analytic
+
+
+def fe_beside_analytic(scene, directory, comm=None) -> FEBesideAnalytic:
+    """Run the scene's FE model (on ``comm``, default MPI.COMM_SELF) and the
+    analytic stepper, and write into ``directory``: scene.toml, timeseries.csv
+    (FE), analytic_timeseries.csv and, if fem.output_every > 0, paraview/.
+
+    Raises SceneError or NumericalError (fem.run_fe), leaving whatever it wrote
+    by then for the caller's output.staged() to drop.
+    """
+    from .analytic.run import run
+    from .analytic.summary import summarize
+    from .fem import run_fe
+
+    fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview")
+    analytic_series, analytic = run(scene)
+    fe_summary = {**summarize(fe.series, scene, fe.info["wall_time_s"]),
+                  "dofs": fe.info["dofs"], "contact_nodes": fe.info["contact_nodes"]}
+    document = {"fe": fe_summary, "analytic": analytic,
+                "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}
+    fe_info = {**fe.info, "vtk": "paraview/block.pvd" if fe.info["frames"] else None}
+    output.write_scene(directory, scene)
+    output.write_timeseries(directory, fe.series)
+    output.write_timeseries(directory, analytic_series, "analytic_timeseries.csv")
+    return FEBesideAnalytic(document, fe_info, fe, analytic_series)
