@@ -64,7 +64,7 @@ def test_one_contact_node_under_the_lumped_trajectory_gives_the_lumped_forces(ov
     lumped = run_coupled(scene)
     assert lumped.t.size == scene.steps  # every step kept
 
-    k_t, mu, mu_s, v_s, h_t, h_v, law, update = friction_law_args(scene)
+    law = friction_law_args(scene)
     F_N = scene.contact.F_N
     penalty = np.array([1.0])          # k_pen w = 1 N/m, so u_z = -F_N gives N = F_N exactly
     share = np.array([1.0])
@@ -75,10 +75,10 @@ def test_one_contact_node_under_the_lumped_trajectory_gives_the_lumped_forces(ov
     fe = np.empty((scene.steps, 2))
     for i in range(scene.steps):
         new = np.array([[lumped.x[i], lumped.y[i], -F_N]])
+        state = (length, ex, ey)
         total = contact_forces(old, new, np.zeros(1), lumped.x_b[i] - xb, lumped.y_b[i] - yb,
-                               scene.contact.eta_y, penalty, share, 0.0,
-                               k_t, mu, mu_s, v_s, h_t, h_v, law, update, scene.time.dt,
-                               length, ex, ey, normal, force)
+                               scene.contact.eta_y, penalty, share, 0.0, law, scene.time.dt,
+                               state, state, normal, force)
         assert total[0] == F_N
         fe[i] = total[1:]
         old, xb, yb = new, lumped.x_b[i], lumped.y_b[i]

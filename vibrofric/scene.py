@@ -71,15 +71,29 @@ class Time:
     average_cycles: int = 0                # vibration cycles at the end averaged into F_dv;
                                            # 0: those nearest one drive-system period
     series_dt: float = 1e-5                # s, sampling of the written time series
+    steady_tolerance: float = 0.0          # FE: stop once the window-averaged drive force changes
+                                           # by at most this fraction over steady_cycles cycles;
+                                           # 0: run to T (fem/steady.py)
+    steady_cycles: int = 0                 # vibration cycles the settled average must hold;
+                                           # 0: those of the averaging window
 
 
 @dataclass(frozen=True)
 class Fem:
     mesh: str = "coarse"                   # refinement level, see vibrofric.meshes
-    integrator: str = "explicit"
+    integrator: str = "explicit"           # "explicit" | "implicit" | "reduced" | "auto"
+                                           # (fem/integrators.py)
     penalty: typing.Optional[float] = None  # N/m for the whole contact face; default 10 E A / L_z
     output_every: int = 2000               # steps between ParaView frames; 0: none
     damping: float = 0.0                   # stiffness-proportional damping beta, s; 0: 6% at the top mode
+    rho_infinity: float = 0.9              # implicit, reduced: generalized-alpha's spectral radius at
+                                           # infinite frequency; 1 = trapezoidal rule (fem/implicit.py)
+    cutoff: float = 12.0                   # reduced: keep the block's fixed-interface modes below
+                                           # cutoff * vibration.f (fem/reduction.py)
+    accuracy: float = 0.01                 # auto: the relative error of F_dv / F_d0 it may trade
+                                           # for speed (fem/integrators.py)
+    energy: bool = False                   # implicit, reduced: record the energy balance
+                                           # (fem/energy.py)
 
 
 SECTIONS = {"body": Body, "contact": Contact, "drive": Drive,
@@ -192,6 +206,10 @@ def _check_type(key: str, value, annotation):
         if isinstance(value, bool) or not isinstance(value, int):
             raise SceneError(key, f"expected an integer, got {value!r}")
         return value
+    if base is bool:
+        if not isinstance(value, bool):
+            raise SceneError(key, f"expected true or false, got {value!r}")
+        return value
     if base is str:
         if not isinstance(value, str):
             raise SceneError(key, f"expected a string, got {value!r}")
@@ -299,6 +317,16 @@ def validate(scene: Scene) -> None:
         raise SceneError("contact.F_s", f"must be >= 0, got {scene.contact.F_s}")
     if scene.fem.penalty is not None and scene.fem.penalty <= 0:
         raise SceneError("fem.penalty", f"must be > 0, got {scene.fem.penalty}")
+    if not 0.0 <= scene.fem.rho_infinity <= 1.0:
+        raise SceneError("fem.rho_infinity", f"must lie in [0, 1], got {scene.fem.rho_infinity}")
+    if scene.fem.cutoff < 0:
+        raise SceneError("fem.cutoff", f"must be >= 0, got {scene.fem.cutoff}")
+    if not 0.0 < scene.fem.accuracy < 1.0:
+        raise SceneError("fem.accuracy", f"must lie in (0, 1), got {scene.fem.accuracy}")
+    if scene.time.steady_tolerance < 0:
+        raise SceneError("time.steady_tolerance", f"must be >= 0, got {scene.time.steady_tolerance}")
+    if scene.time.steady_cycles < 0:
+        raise SceneError("time.steady_cycles", f"must be >= 0, got {scene.time.steady_cycles}")
     if scene.time.average_cycles < 0:
         raise SceneError("time.average_cycles", f"must be >= 0, got {scene.time.average_cycles}")
     if scene.time.dt > scene.time.T:

@@ -10,8 +10,17 @@ friction subroutine (spec/model.md section 5). One physical idea per module:
     preload      the static equilibrium every run starts from
     stability    the highest frequency, default damping, explicit stable step
     model        a scene's FE model as plain arrays (all of the above, once per run)
+    linalg       products and factorized solves inside the numba loops
     explicit     central-difference time loop (numba), the baseline integrator
-    integrators  the registry fem.integrator selects from
+    implicit     generalized-alpha, the linear operator factorized once, the contact
+                 and friction solved in the step (numba)
+    reduction    Craig-Bampton reduction of the block to its contact face, and its
+                 measured error; the reduced integrator
+    integrators  the registry fem.integrator selects from, and "auto"
+    recording    the recorded rows (a run may end early), the run's end state
+    steady       early steady state: stop once the cycle-averaged F_d has settled
+    energy       the energy balance of an implicit run (fem.energy)
+    trouble      numerical trouble: the per-step checks and their messages
     paraview     the .pvd frame series (DOLFINx VTKFile)
     run          run_fe(scene, comm, vtk_dir) -> FEResult
 

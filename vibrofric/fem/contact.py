@@ -61,38 +61,54 @@ def normal_force(u_z, v_z, penalty_share, beta):
     return penalty_share * closing  # (a NaN displacement gives NaN, caught by the loop)
 
 
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+def node_contact(slip_x, slip_y, u_z, v_z, dx_b, free_y, penalty_share, w, beta, law, dt,
+                 s, ex, ey):
+    """One node's step: (N_i, s, ex, ey, F_x, F_y) after the body moved by (slip_x, slip_y)
+    and reached height u_z at speed v_z, the base by dx_b and the free end by free_y."""
+    k_t, mu, mu_s, v_s, h_t, h_v, code, update = law
+    n_i = normal_force(u_z, v_z, penalty_share, beta)
+    s, e_x, e_y, f_x, f_y = node_step(
+        s, ex, ey,
+        slip_x - dx_b, slip_y,      # phase 1: body minus base in X (eq 14), body in Y
+        0.0, free_y, n_i,           # phase 2: the free end by eta_y dy_b (eq 30)
+        k_t * w, mu, mu_s, v_s, h_t * w, h_v * w, code, update, dt)
+    return n_i, s, e_x, e_y, f_x, f_y
+
+
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
-                   penalty_share, area_share, beta,
-                   k_t, mu, mu_s, v_s, h_t, h_v, law, update, dt,
-                   length, ex, ey, normal, force):
-    """Advance every contact node by one step; state and outputs are updated in place.
+                   penalty_share, area_share, beta, law, dt,
+                   state, new_state, normal, force):
+    """Advance every contact node by one step; outputs are written in place.
 
     disp_old, disp_new  (n, 3) the nodes' displacements at the start and end of the step
     vel_z               (n,) their Z velocities at the end of the step
     dx_b, dy_b          the base's increment over the step (eqs 24-25)
     penalty_share       (n,) k_pen w_i;  area_share (n,) w_i
-    k_t ... update      the whole contact's law parameters, as friction_law_args(scene)
-    length, ex, ey      (n,) each node's asperity (s, e) (in/out)
+    law                 the whole contact's law, friction_law_args(scene):
+                        (k_t, mu, mu_s, v_s, h_t, h_v, law code, update code)
+    state               (length, ex, ey), each (n,): every node's asperity (s, e) at
+                        the start of the step
+    new_state           the same at the end of the step (out; may be ``state``
+                        itself, or other arrays to try a step without committing it)
     normal              (n,) out: the normal force N_i at the end of the step
     force               (n, 2) out: the friction force F_i (acts on the body as -F_i)
 
     Returns the sums (sum N_i, sum F_x, sum F_y).
     """
-    free_y = eta_y * dy_b  # phase 2: the free end moves by eta_y dy_b (eq 30)
+    length, ex, ey = state
+    length_new, ex_new, ey_new = new_state
+    free_y = eta_y * dy_b
     total_n = total_x = total_y = 0.0
     for i in range(length.shape[0]):
-        n_i = normal_force(disp_new[i, 2], vel_z[i], penalty_share[i], beta)
-        w = area_share[i]
-        s, e_x, e_y, f_x, f_y = node_step(
-            length[i], ex[i], ey[i],
-            (disp_new[i, 0] - disp_old[i, 0]) - dx_b,   # phase 1: body minus base in X (eq 14)
-            disp_new[i, 1] - disp_old[i, 1],            #          body in Y
-            0.0, free_y, n_i,
-            k_t * w, mu, mu_s, v_s, h_t * w, h_v * w, law, update, dt)
-        length[i] = s
-        ex[i] = e_x
-        ey[i] = e_y
+        n_i, s, e_x, e_y, f_x, f_y = node_contact(
+            disp_new[i, 0] - disp_old[i, 0], disp_new[i, 1] - disp_old[i, 1],
+            disp_new[i, 2], vel_z[i], dx_b, free_y, penalty_share[i], area_share[i], beta, law, dt,
+            length[i], ex[i], ey[i])
+        length_new[i] = s
+        ex_new[i] = e_x
+        ey_new[i] = e_y
         normal[i] = n_i
         force[i, 0] = f_x
         force[i, 1] = f_y

@@ -1,45 +1,124 @@
-"""The time integrators, replaceable parts selected by scene fem.integrator.
+"""The time integrators, selected by scene fem.integrator.
 
-An integrator is a pair of functions:
+An integrator is a class prepared once per run:
 
-    check(scene, model)
-        refuse, with SceneError naming the key, a scene it cannot run
-        (the explicit one: time.dt above model.dt_stable); called before any
-        output is opened
-    integrate(model, scene, plan, frame=None, every=0) -> explicit.Integration
+    Run(scene, model)
+        refuses, with SceneError naming the key, a scene it cannot run, and
+        does the run's set-up (a factorization, a reduction); run_fe calls it
+        before any output is opened
+    run.name, run.info, run.choice
+        which integrator this is, what the set-up found (FEResult.info), and
+        for "auto" why it was picked (None otherwise)
+    run.cost_per_step
+        its time per step in ns, roughly (implicit.COST; for "auto")
+    run.integrate(plan, frame=None, every=0) -> recording.Integration
         run ``plan.steps`` steps of ``scene.time.dt`` from the static preload
-        of ``model`` (model.FEModel: plain arrays), keep the rows ``plan``
-        (analytic.series.RecordPlan) asks for in ``Integration.table``
-        (columns explicit.COLUMNS), call ``frame(state)`` at t = 0 and every
-        ``every`` steps when given, and raise analytic.series.NumericalError
-        on numerical trouble
+        (fewer once settled, steady.py), keep the rows ``plan``
+        (analytic.series.RecordPlan) asks for (columns recording.columns),
+        call ``frame(state)`` at t = 0, every ``every`` steps and at the end
+        when given, and raise analytic.series.NumericalError on numerical trouble
 
-An implicit Newmark or a reduced (modal) model fits behind the same pair.
+The integrators, all driving the same per-node friction law (contact.py):
+
+    explicit   central differences, lumped mass (explicit.py): the Abaqus/Explicit
+               analogue; dt below the mesh's stable step (~1e-6 s)
+    implicit   generalized-alpha on the full model, factorized once (implicit.py);
+               any dt that resolves the vibration (>= 10 steps a cycle)
+    reduced    the same on a Craig-Bampton reduction of the block to its contact
+               face, drive and modes below fem.cutoff * f (reduction.py)
+    auto       the cheapest of those that meets fem.accuracy (choose() below)
 """
 
-from dataclasses import dataclass
-from typing import Callable
-
 from ..scene import SceneError
-from . import explicit
-from .model import check_step
+from . import explicit, implicit
+from .implicit import ImplicitRun, full_system
+from .reduction import ReducedRun
 
 
-@dataclass(frozen=True)
-class Integrator:
-    name: str
-    check: Callable
-    integrate: Callable
+class ExplicitRun:
+    """Central differences: the Abaqus/Explicit analogue (explicit.py)."""
+
+    name = "explicit"
+
+    def __init__(self, scene, model):
+        explicit.check(scene, model)
+        self.scene, self.model = scene, model
+        self.info = {}
+        self.choice = None
+
+    @property
+    def cost_per_step(self) -> float:
+        """ns a step, roughly (implicit.COST): the product with K, the vectors, the friction law."""
+        cost = implicit.COST
+        return (cost["sparse"] * self.model.stiffness.nnz + cost["vector"] * 4 * self.model.dofs
+                + cost["friction"] * self.model.contact_nodes.size)
+
+    def integrate(self, plan, frame=None, every=0):
+        return explicit.integrate(self.model, self.scene, plan, frame, every)
+
+
+def implicit_run(scene, model) -> ImplicitRun:
+    """Generalized-alpha on the full model (implicit.py)."""
+    return ImplicitRun(scene, model, full_system(model))
+
+
+def choose(scene, model):
+    """fem.integrator = "auto": the cheapest integrator that meets fem.accuracy.
+
+    All three run the scene's steps of time.dt, so the cheapest is the one with
+    the cheapest step (cost_per_step, calibrated in implicit.COST). Candidates:
+
+    explicit  the full model, where time.dt is below its stable step
+    reduced   where its measured reduction error (reduction.py: the face's
+              dynamic compliance against the full model's, taken as an F_dv
+              error) is within fem.accuracy
+    implicit  the full model at any step; prepared (factorized) only when
+              neither of the others qualifies or its estimated cost
+              (implicit.estimated_cost) is below theirs: it always costs more
+              than explicit at the same step, but less than a reduced model that
+              keeps hundreds of modes (an ultrasonic base)
+
+    Time-step error is time.dt's, the same for all three. Returns the prepared
+    run, its ``choice`` saying what was picked and why.
+    """
+    accuracy = scene.fem.accuracy
+    reasons, candidates = [], []
+    for name in ("explicit", "reduced"):
+        try:
+            run = INTEGRATORS[name](scene, model)
+        except SceneError as error:
+            reasons.append(f"{name} refused ({error})")
+            continue
+        if name == "reduced":
+            estimate = run.info["reduction_error_estimate"]
+            if estimate > accuracy:
+                reasons.append(f"reduced: estimated reduction error {estimate:.2g} > "
+                               f"fem.accuracy {accuracy:g}")
+                continue
+            reasons.append(f"reduced: estimated reduction error {estimate:.2g} <= "
+                           f"fem.accuracy {accuracy:g}")
+        candidates.append(run)
+    cheapest = min((run.cost_per_step for run in candidates), default=float("inf"))
+    if implicit.estimated_cost(scene, model) < cheapest:
+        candidates.append(implicit_run(scene, model))
+        reasons.append("implicit: the full model at any time.dt")
+    best = min(candidates, key=lambda run: run.cost_per_step)
+    costs = ", ".join(f"{run.name} {run.cost_per_step / 1e3:.3g}" for run in candidates)
+    best.choice = (f"{best.name}: the cheapest that meets fem.accuracy {accuracy:g} "
+                   f"(estimated us a step: {costs}); " + "; ".join(reasons))
+    return best
 
 
 INTEGRATORS = {
-    # central difference with the lumped mass: the Abaqus/Explicit analogue
-    "explicit": Integrator("explicit", check_step, explicit.integrate),
+    "explicit": ExplicitRun,
+    "implicit": implicit_run,
+    "reduced": ReducedRun,
+    "auto": choose,
 }
 
 
-def select(scene) -> Integrator:
-    """The integrator named by fem.integrator, or SceneError naming the key."""
+def select(scene):
+    """The integrator named by fem.integrator (a callable (scene, model) -> run), or SceneError."""
     try:
         return INTEGRATORS[scene.fem.integrator]
     except KeyError:

@@ -59,7 +59,7 @@ def node_fields(model, state) -> dict:
 
 
 class FrameWriter:
-    """Writes ``vtk_dir/block.pvd`` (+ .vtu per frame); call with an explicit.State."""
+    """Writes ``vtk_dir/block.pvd`` (+ .vtu per frame); call with a recording.State."""
 
     def __init__(self, model, comm, vtk_dir):
         from dolfinx import fem, io

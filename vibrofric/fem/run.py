@@ -8,9 +8,9 @@ from ..analytic.series import (NumericalError, RecordPlan, TimeSeries, averaging
                                full_resolution_steps)
 from ..meshes import level_counts
 from . import integrators
-from .explicit import EXTRA
 from .model import build_model
 from .paraview import FrameWriter, node_fields
+from .recording import extra_columns
 
 # A run whose summed normal force leaves F_N (1 +- STEADY_NORMAL) over the
 # averaging window (the last time.average_cycles cycles, which F_dv comes from)
@@ -32,8 +32,10 @@ class FEResult:
 
     series  analytic.series.TimeSeries: t, F_d, F_x, F_y (summed nodal friction
             force, paper sign), x, y (attachment nodes' mean displacement since
-            the preload), x_b, y_b, and extra["F_n"] (summed normal reaction);
-            the rows the analytic stepper keeps, so summarize() applies as is
+            the preload), x_b, y_b, and extra["F_n"] (summed normal reaction),
+            with fem.energy also extra[recording.ENERGY]; the rows the analytic
+            stepper keeps up to the step the run ended at (early steady
+            state: steady.py), so summarize() applies as is
     info    what the run was and cost (see run_fe)
     fields  the node fields at the last step, as in the ParaView frames
             (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3)
@@ -66,20 +68,26 @@ def run_fe(scene, comm=None, vtk_dir=None) -> FEResult:
     the first step, and NumericalError for a run that went wrong (NaN, a
     diverging asperity, the normal force blowing up or ringing).
 
-    info keys: mesh, integrator, nodes, dofs, elements, contact_nodes, attach,
-    attach_nodes, density (kg/m^3), block_mass (kg), top_pressure (Pa),
-    penalty (N/m), damping (beta, s), omega_max (rad/s), dt, dt_stable (s),
-    steps, F_n_static (N, the preload's reaction), F_n_min / F_n_max (every
-    step), F_n_min_after_t_on / F_n_max_after_t_on (every step from
+    info keys: mesh, integrator (the one that ran), integrator_requested
+    (fem.integrator), integrator_choice (for "auto": what it picked and why;
+    else None), nodes, dofs, elements, contact_nodes, attach, attach_nodes,
+    density (kg/m^3), block_mass (kg), top_pressure (Pa), penalty (N/m),
+    damping (beta, s), omega_max (rad/s), dt, dt_stable (s; the explicit
+    integrator's limit), steps (run), steps_planned, stopped_early,
+    stop_time_s (None if it ran to time.T), saving (the fraction of the
+    planned steps not run), steady_tolerance, steady_cycles, steady_change
+    (steady.py), F_n_static (N, the preload's reaction), F_n_min / F_n_max
+    (every step), F_n_min_after_t_on / F_n_max_after_t_on (every step from
     vibration.t_on; None without vibration), F_n_min_window / F_n_max_window
     (the averaging window), frames, vtk (the .pvd path or None), setup_time_s,
-    loop_time_s, wall_time_s.
+    loop_time_s, wall_time_s; and what the integrator's set-up reports
+    (implicit.py ImplicitRun.info, reduction.py ReducedRun.info).
     """
     start = time.perf_counter()
     comm = _communicator(comm)
-    integrator = integrators.select(scene)
+    prepare = integrators.select(scene)
     model = build_model(scene, comm)
-    integrator.check(scene, model)
+    integrator = prepare(scene, model)
     setup_time = time.perf_counter() - start
 
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
@@ -87,11 +95,11 @@ def run_fe(scene, comm=None, vtk_dir=None) -> FEResult:
     if vtk_dir is not None and scene.fem.output_every > 0:
         writer = FrameWriter(model, comm, vtk_dir)
     try:
-        run = integrator.integrate(model, scene, plan, frame=writer, every=scene.fem.output_every)
+        run = integrator.integrate(plan, frame=writer, every=scene.fem.output_every)
     finally:
         if writer is not None:
             writer.close()
-    series = TimeSeries.from_table(run.table, EXTRA)
+    series = TimeSeries.from_table(run.table, extra_columns(scene.fem.energy))
 
     F_N = scene.contact.F_N
     window = series.extra["F_n"][-averaging_steps(scene):]
@@ -105,7 +113,9 @@ def run_fe(scene, comm=None, vtk_dir=None) -> FEResult:
     disc = model.disc
     info = {
         "mesh": scene.fem.mesh,
-        "integrator": scene.fem.integrator,
+        "integrator": integrator.name,
+        "integrator_requested": scene.fem.integrator,
+        "integrator_choice": integrator.choice,
         "nodes": disc.nodes,
         "dofs": disc.dofs,
         "elements": int(math.prod(level_counts(scene.fem.mesh))),
@@ -120,7 +130,9 @@ def run_fe(scene, comm=None, vtk_dir=None) -> FEResult:
         "omega_max": model.omega_max,
         "dt": scene.time.dt,
         "dt_stable": model.dt_stable,
-        "steps": plan.steps,
+        **{key: run.stats[key] for key in ("steps", "steps_planned", "stopped_early", "stop_time_s",
+                                           "saving", "steady_tolerance", "steady_cycles",
+                                           "steady_change")},
         "F_n_static": float(model.normal0.sum()),
         "F_n_min": run.stats["F_n_min"],
         "F_n_max": run.stats["F_n_max"],
@@ -133,6 +145,8 @@ def run_fe(scene, comm=None, vtk_dir=None) -> FEResult:
         "setup_time_s": setup_time,
         "loop_time_s": run.stats["loop_time_s"],
         "wall_time_s": time.perf_counter() - start,
+        **integrator.info,
+        **{key: value for key, value in run.stats.items() if key.startswith("iterations_")},
     }
     fields = node_fields(model, run.state)
     fields["coordinates"] = disc.coordinates

@@ -1,0 +1,800 @@
+"""Implicit time integration: generalized-alpha with the linear operator factorized once.
+
+Coordinates. u = u0 + T q, u0 the static preload (preload.py). The full model
+has T = I; the reduced one (reduction.py) a Craig-Bampton basis. In both, each
+contact node's X, Y, Z displacement is a coordinate of its own (``contact_dofs``;
+P picks them out of q), and the drive's attachment is x_A = d_x^T q (drive.py).
+The equation of motion is
+
+    M q'' + C q' + K q = P f_c - P_z N0 + d_x F_d,        C = beta K
+
+with f_c = (-F_x, -F_y, N) per contact node (contact.py: the friction law and
+the penalty spring with its dashpot), N0 the preload's reactions (the dead
+loads less K u0), F_d = k_d (v_d t - x_A) (eq 17) and the model's Rayleigh
+damping beta (stability.py), as in explicit.py.
+
+Generalized-alpha (Chung & Hulbert, J. Appl. Mech. 60, 1993), with the
+spectral radius rho_inf at infinite frequency (scene fem.rho_infinity):
+
+    alpha_m = (2 rho_inf - 1) / (rho_inf + 1),   alpha_f = rho_inf / (rho_inf + 1)
+    gamma = 1/2 - alpha_m + alpha_f,             beta_N = (1 - alpha_m + alpha_f)^2 / 4
+    q_{n+1} = q_n + dt v_n + dt^2 ((1/2 - beta_N) a_n + beta_N a_{n+1})
+    v_{n+1} = v_n + dt ((1 - gamma) a_n + gamma a_{n+1})
+    M a_{n+1-alpha_m} + C v_{n+1-alpha_f} + K q_{n+1-alpha_f} = r_{n+1-alpha_f}
+
+(x_{n+1-alpha} = (1 - alpha) x_{n+1} + alpha x_n). rho_inf = 1 is the trapezoidal
+rule (Newmark average acceleration): second order, unconditionally stable for
+linear systems, no numerical damping; rho_inf < 1 damps the modes above 1 / dt
+(the mesh's and the penalty springs', which the scene does not need), keeping
+second order. The default, 0.9, is there because the contact is nonlinear: a
+penalty spring switching on and off pumps energy into the undamped modes
+above 1 / dt. With rho_inf = 1 a thin, 100x stiffer block (30 x 40 x 5 mm,
+transverse scene) lost contact after 64 ms of plain dragging at dt = 1e-5 s,
+and sooner at 5e-6 s; with 0.9 its normal force stays within 50.799-50.801 N.
+On the Fig 7 scene 0.9 moves F_dv/F_d0 by -0.18% against 1 (explicit at 1e-6 s
+lies between), on the k_v = 20 transverse scene by -0.003%.
+
+One step. Everything linear is one matrix, factorized once per run:
+
+    A = c_M M + (1 - alpha_f) ((1 + beta c_V) K + P diag(l) P^T),
+    c_M = (1 - alpha_m) / (beta_N dt^2),   c_V = gamma / (beta_N dt)
+
+where l is the contact forces' tangent per contact DOF: k_t w_i in X and Y
+(the Dahl law's stiffness at rest, the middle of its range [0, 2 k_t w_i]) and
+k_pen w_i (1 + beta c_V) in Z (the penalty spring and its dashpot) for the
+nodes in contact at the preload. Then
+
+    A q_{n+1} = b_n + (1 - alpha_f) g,      g = P (f_c + l q_c) + d_x F_d
+
+with b_n known from step n, and g the part the matrix does not hold: the
+friction law's departure from its tangent, the drive. g depends on q_{n+1}
+only through q_c and x_A. With y = A^-1 b_n and Z = A^-1 [P d_x] (computed once):
+
+    q_c = y_c + (1 - alpha_f) (G g_c + h F_d),     G = P^T A^-1 P,  h = P^T A^-1 d_x
+    x_A = y_A + (1 - alpha_f) (h^T g_c + e F_d),   e = d_x^T A^-1 d_x
+
+a fixed point in 3 x contacts + 1 unknowns, iterated to ITERATION_TOLERANCE
+(each iteration: the friction law on every node, one product with G); then
+q_{n+1} = y + (1 - alpha_f) Z [g_c; F_d] (on the contact DOFs that is the
+iteration's last q_c). Per step: one solve with A, two products (M, K), the
+non-contact rows of Z, and the iterations.
+
+The friction law inside the step. f_c(q_c) is each node's contact over the
+step from q_n to the trial q_{n+1}: the VFRIC analogue (contact.node_contact,
+the same per-node update as explicit.py) run on friction_substeps(scene)
+sub-steps, at least SUBSTEPS_PER_CYCLE a vibration cycle, with the base on
+its exact sinusoid (eq 23) and the node at its mean velocity over the step.
+At dt = 1e-5 s, 25 steps a cycle, one piece would miss the base's curved
+path by ~1% of F_dv; four sub-steps bring it within 0.2%.
+
+Why this is stable and converges at any dt. The matrix holds the mass, the
+block, the penalty springs and the contact's own tangent: what stays in g is
+the friction law's departure from k_t w_i, at most k_t w_i per node (Dahl:
+dF/d(slip) lies in [0, 2 k_t w_i]), and the drive spring k_d. The iteration
+contracts by (1 - alpha_f) ||G diag(departure)||: below (1 - alpha_f) k_t w_i
+G_ii <= 1 - alpha_f ~ 1/2 node by node (G_ii <= 1 / l_i), and for the whole
+face together k_t / (k_t + c_M m) ~ 0.004 at dt = 1e-5 s (the rigid block's
+2 kHz mode on k_t, which explicit friction would have to resolve). Nothing is
+lagged: the step is implicit in the friction force too, so neither the
+penalty nor k_t limits dt, and no tuning is needed. ImplicitRun refuses
+(naming time.dt) a scene whose LuGre law departs so far from k_t (its
+dampings over a long step) that this bound exceeds MAX_CONTRACTION.
+
+Where that bound does not hold: nodes near lift-off. The block rocks on its
+face every cycle (friction at z = 0, inertia at mid-height): the corner
+nodes' normal forces swing between 0 and twice their share even in the
+explicit run. A node that lifts off loses its penalty spring and its
+friction; one whose normal force is small has a tiny Coulomb limit, a
+saturated friction force and a strong pull of N on F (mu dN/dq_z). Those
+critical nodes get a Newton step with their own 3x3 tangents
+(_newton_correction), halved when it does not lower the residual; should the
+Newton steps still alternate across a node's contact kink, the plain fixed
+point takes over, and the step is accepted at its best iterate within a
+looser tolerance (STALL_FACTOR) or refused as not converged.
+"""
+
+import math
+import time
+from typing import NamedTuple
+
+import numpy as np
+import scipy.sparse as sp
+from numba import njit
+
+from ..analytic.coupled import base_phase, friction_law_args, vibration_axis
+from ..friction_law.kernels import FASTMATH
+from ..scene import SceneError
+from . import energy, trouble
+from .contact import node_contact
+from .linalg import apply, bsr, factorize, inverse, solve
+from .recording import (COS, SIN, XB, YB, Integration, Recorder, State, columns, finish_step,
+                        initial_scalars, keep_step, loop_stats, run_in_chunks)
+from .steady import SteadyState
+
+# Convergence of the contact iteration: the change of every contact
+# displacement below this fraction of F_N / k_t (~7e-13 m on the paper's
+# cases: 1e-5 of the Dahl sliding length s_c, far above rounding). Measured on
+# the Fig 7 scene at dt = 1e-5 s: 2.2 iterations a step, F_dv within 1e-5 of
+# a 10x tighter tolerance's (2.6 iterations), the energy balance to 1e-7.
+ITERATION_TOLERANCE = 1e-6
+MAX_ITERATIONS = 30
+# Then the plain fixed point (delta = -rho), slower, for steps where the Newton
+# steps alternate across contact kinks.
+FALLBACK_ITERATIONS = 300
+# Backtracking: a Newton step that does not lower the residual is halved, down
+# to this fraction. A step that has not converged after all iterations is
+# accepted at its best iterate if that one's residual is within STALL_FACTOR
+# times the tolerance (1e-4 of F_N / k_t, ~1e-3 of s_c: a normal force error
+# of ~1e-3 F_N / contacts on one node): it sits on a node's contact kink,
+# where the Newton steps of the two sides can alternate. Counted as
+# iterations_stalled.
+MIN_STEP = 1.0 / 64.0
+STALL_FACTOR = 1e2
+# Nodes below this fraction of their preload's normal force get a Newton step
+# (_newton_correction), with tangents by forward differences of FD_STEP times
+# the node's natural length (its sliding length, its preload penetration).
+CRITICAL = 0.25
+FD_STEP = 1e-4
+# The friction law runs on at least this many sub-steps a vibration cycle (friction_substeps).
+SUBSTEPS_PER_CYCLE = 100
+# Refuse a scene whose estimated contraction factor is above this (at 0.5 the
+# iteration needs ~25 steps; beyond, it may not converge).
+MAX_CONTRACTION = 0.5
+
+# What one operation costs, ns (measured on the 2-core development machine;
+# only their ratios matter, for fem.integrator = "auto"): a multiply-add in a
+# dense product, in a sparse product (BSR), in a sparse triangular solve; a
+# vector update per DOF; one friction law update of one node.
+COST = {"dense": 1.0, "sparse": 0.5, "solve": 1.6, "vector": 0.5, "friction": 60.0}
+FILL = 7.0
+
+# scalars[]: the loop's carried scalar state, after recording's
+F_D, ITER_MAX, ITER_SUM, STALLED = range(8, 12)
+
+
+class Work(NamedTuple):
+    """The loop's scratch arrays (n the system's size, nc = 3 contacts)."""
+
+    qt: np.ndarray          # (n,) predictors q~, v~
+    vt: np.ndarray
+    x1: np.ndarray          # (n,) vectors multiplied by M and K
+    x2: np.ndarray
+    r1: np.ndarray          # (n,) their products
+    r2: np.ndarray
+    rhs: np.ndarray         # (n,) b_n
+    y: np.ndarray           # (n,) A^-1 b_n
+    q_new: np.ndarray       # (n,) q_{n+1}
+    gw: np.ndarray          # (nc + 1,) [g_c; F_d]
+    qc: np.ndarray          # (nc,) the contact-space iterate
+    yc: np.ndarray
+    target: np.ndarray
+    g: np.ndarray
+    delta: np.ndarray
+    rho: np.ndarray
+    trial_s: np.ndarray     # (contacts,) the trial asperity state and forces
+    trial_ex: np.ndarray
+    trial_ey: np.ndarray
+    normal_t: np.ndarray
+    force_t: np.ndarray     # (contacts, 2)
+    qc_best: np.ndarray     # (nc,) the iterate with the smallest residual
+    subset: np.ndarray      # (contacts,) int: the critical nodes
+    jac: np.ndarray         # (3,)
+    base_dx: np.ndarray     # (substeps,) the base's X increments over the friction sub-steps
+    base_free: np.ndarray   # (substeps,) the free end's: eta_y dy_b (eq 30)
+
+    @classmethod
+    def allocate(cls, n: int, contacts: int, substeps: int) -> "Work":
+        nc = 3 * contacts
+        return cls(*(np.empty(n) for _ in range(9)), np.empty(nc + 1),
+                   *(np.empty(nc) for _ in range(6)),
+                   *(np.empty(contacts) for _ in range(4)), np.empty((contacts, 2)),
+                   np.empty(nc), np.empty(contacts, dtype=np.int64), np.empty(3),
+                   np.empty(substeps), np.empty(substeps))
+
+
+def friction_substeps(scene) -> int:
+    """Friction sub-steps per step: enough for SUBSTEPS_PER_CYCLE a vibration cycle.
+
+    The friction law is the scene's fastest nonlinearity: its asperity
+    follows the base's sinusoid, whose phase moves by w dt a step (0.25 rad
+    at 4 kHz and dt = 1e-5 s). Integrating it in one piece over such a step
+    errs by ~1% of F_dv (the lumped stepper at dt = 1e-5 s: -0.6%, at
+    6.25e-6 s: -1.6%). On sub-steps of 2 pi / 100, the base on its exact
+    sinusoid and the body at its mean velocity over the step, a rigid block
+    (trapezoidal rule, Fig 7 scene) is within 0.2% at dt = 1e-5 s. (A cubic
+    path through the end velocities is no more accurate there, and it
+    carries the unresolved, undamped penalty modes' velocities into the slip.)
+    """
+    return max(1, math.ceil(SUBSTEPS_PER_CYCLE * scene.vibration.f * scene.time.dt - 1e-9))
+
+
+def coefficients(rho_inf: float, dt: float) -> tuple:
+    """(alpha_m, alpha_f, beta_N, gamma, c_M, c_V) of generalized-alpha for rho_inf and dt."""
+    alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
+    alpha_f = rho_inf / (rho_inf + 1.0)
+    gamma = 0.5 - alpha_m + alpha_f
+    beta_n = 0.25 * (1.0 - alpha_m + alpha_f) ** 2
+    return alpha_m, alpha_f, beta_n, gamma, (1.0 - alpha_m) / (beta_n * dt * dt), gamma / (beta_n * dt)
+
+
+class LinearSystem:
+    """The linear part of a model in its coordinates q (u = u0 + T q).
+
+    mass, stiffness  M and K: a diagonal (1-D array) and a scipy sparse matrix
+                     (the full model), or dense 2-D arrays (the reduced model)
+    contact_dofs     (contacts, 3) the q index of each contact node's X, Y, Z
+    drive_index, drive_x, drive_y
+                     x_A = sum drive_x q[drive_index], y_A likewise (drive.py)
+    expand           q -> T q, the node displacement field (for frames and fields)
+    """
+
+    def __init__(self, mass, stiffness, contact_dofs, drive_index, drive_x, drive_y, expand):
+        self.mass = mass
+        self.stiffness = stiffness
+        self.contact_dofs = np.ascontiguousarray(contact_dofs, dtype=np.int64)
+        self.drive_index = np.ascontiguousarray(drive_index, dtype=np.int64)
+        self.drive_x = np.ascontiguousarray(drive_x, dtype=float)
+        self.drive_y = np.ascontiguousarray(drive_y, dtype=float)
+        self.expand = expand
+
+    @property
+    def size(self) -> int:
+        return self.stiffness.shape[0]
+
+    @property
+    def dense(self) -> bool:
+        return isinstance(self.stiffness, np.ndarray)
+
+
+def full_system(model) -> LinearSystem:
+    """The full model: q = u - u0, every DOF."""
+    contacts = model.contact_nodes
+    weights = model.attach_weights
+    index = 3 * model.attach_nodes
+    return LinearSystem(model.disc.mass, model.stiffness,
+                        3 * contacts[:, None] + np.arange(3)[None, :],
+                        np.concatenate([index, index + 1]),
+                        np.concatenate([weights, np.zeros_like(weights)]),
+                        np.concatenate([np.zeros_like(weights), weights]),
+                        lambda q: q)
+
+
+def contact_tangent(model, scene, c_v) -> np.ndarray:
+    """l: (3 contacts,) the contact forces' tangent per contact DOF (see the docstring)."""
+    tangent = np.empty((model.contact_nodes.size, 3))
+    tangent[:, 0] = tangent[:, 1] = scene.contact.k_t * model.area_share
+    tangent[:, 2] = model.penalty_share * (1.0 + model.beta * c_v)
+    return tangent.ravel()
+
+
+def law_departure(scene) -> float:
+    """An upper bound of |dF/d(slip) - k_t w_i| / (k_t w_i) for the scene's law at its dt.
+
+    Dahl: dF/d(slip) lies in [0, 2 k_t w_i], so 1. LuGre adds the Stribeck
+    term (the sliding limit g(v_r) changing with the step's slip: at most
+    sqrt(2/e) (F_s - F_c) / F_c, reached at v_r = v_s / sqrt 2) and the dampings
+    (h_t ds + h_v dv_r) / dt: (2 h_t + h_v) / (k_t dt).
+    """
+    c = scene.contact
+    if c.law == "dahl":
+        return 1.0
+    stribeck = math.sqrt(2.0 / math.e) * abs(scene.F_s - scene.F_c) / max(scene.F_c, 1e-300)
+    return 1.0 + stribeck + (2.0 * c.h_t + c.h_v) / (c.k_t * scene.time.dt)
+
+
+def step_cost(system, factor_entries, contacts, substeps) -> float:
+    """ns a step, roughly (COST): the solve, M and K, the non-contact rows of Z, three
+    iterations (the product with G, the friction law on every node and sub-step)."""
+    nc = 3 * contacts
+    if system.dense:
+        linear = COST["dense"] * (factor_entries + 2 * system.size ** 2)
+    else:
+        linear = (COST["solve"] * factor_entries + COST["sparse"] * system.stiffness.nnz
+                  + COST["vector"] * 4 * system.size)
+    rows = COST["dense"] * (system.size - nc) * (nc + 1)
+    return linear + rows + 3 * (COST["dense"] * nc * nc + COST["friction"] * contacts * substeps)
+
+
+def estimated_cost(scene, model) -> float:
+    """step_cost of the full model before factorizing it: its LU (minimum degree on
+    the block's hexahedral mesh) holds about FILL n^1.5 entries (measured: 139 k at
+    720 DOFs, 2.4 M at 4,455)."""
+    system = full_system(model)
+    return step_cost(system, FILL * system.size ** 1.5, model.contact_nodes.size,
+                     friction_substeps(scene))
+
+
+class ImplicitRun:
+    """An implicit run prepared for a scene: the factorization and the contact operator.
+
+    Raises SceneError (naming the key) for a scene it cannot run; ``info``
+    says what was prepared; ``integrate(plan, frame, every)`` runs it.
+    """
+
+    def __init__(self, scene, model, system: LinearSystem, name="implicit"):
+        t = scene.time
+        self.scene, self.model, self.system, self.name = scene, model, system, name
+        self.choice = None
+        self.coefficients = coefficients(scene.fem.rho_infinity, t.dt)
+        self.substeps = friction_substeps(scene)
+        alpha_m, alpha_f, beta_n, gamma, c_m, c_v = self.coefficients
+        self.tangent = contact_tangent(model, scene, c_v)
+        self.assumed = (model.normal0 > 0.0).astype(float)   # in contact at the preload
+        held = self.tangent * np.repeat(self.assumed, 3)
+        dofs = system.contact_dofs.ravel()
+
+        start = time.perf_counter()
+        scale = (1.0 - alpha_f) * (1.0 + model.beta * c_v)
+        if system.dense:
+            A = c_m * system.mass + scale * system.stiffness
+            A[dofs, dofs] += (1.0 - alpha_f) * held
+            self.inv = inverse(A)
+            self.mass_op, self.stiffness_op = system.mass, system.stiffness
+        else:
+            contact = np.zeros(system.size)
+            contact[dofs] = (1.0 - alpha_f) * held
+            A = sp.diags(c_m * system.mass + contact) + scale * system.stiffness
+            self.inv = factorize(A)
+            self.mass_op, self.stiffness_op = system.mass, bsr(system.stiffness)
+        # Z = A^-1 [P d_x]: the response to unit contact forces and to the drive.
+        loads = np.zeros((system.size, dofs.size + 1))
+        loads[dofs, np.arange(dofs.size)] = 1.0
+        loads[system.drive_index, dofs.size] = system.drive_x
+        self.Z = np.empty_like(loads)
+        for k in range(loads.shape[1]):
+            solve(self.inv, loads[:, k], self.Z[:, k])
+        self.G = np.ascontiguousarray(self.Z[dofs, :-1])
+        self.G = 0.5 * (self.G + self.G.T)
+        self.h = np.ascontiguousarray(self.Z[dofs, -1])
+        self.e = float(system.drive_x @ self.Z[system.drive_index, -1])
+        self.Z = np.ascontiguousarray(self.Z)
+        self.factor_time = time.perf_counter() - start
+        self.contraction = self._contraction(held)
+        if self.contraction > MAX_CONTRACTION:
+            raise SceneError("time.dt", f"{t.dt:g} s is too long for the {name} integrator's "
+                                        f"contact iteration with this friction law (estimated "
+                                        f"contraction {self.contraction:.2f} > {MAX_CONTRACTION}; "
+                                        "LuGre's dampings h_t, h_v and a large F_s - F_c raise "
+                                        "it): use a smaller time.dt")
+
+    def _contraction(self, held) -> float:
+        """(1 - alpha_f) * departure * spectral radius of diag(l)^1/2 G diag(l)^1/2 over X, Y."""
+        alpha_f = self.coefficients[1]
+        planar = np.flatnonzero(np.tile([1.0, 1.0, 0.0], self.model.contact_nodes.size) * held)
+        if planar.size == 0:
+            return 0.0
+        root = np.sqrt(held[planar])
+        scaled = root[:, None] * self.G[np.ix_(planar, planar)] * root[None, :]
+        radius = np.abs(np.linalg.eigvalsh(0.5 * (scaled + scaled.T))).max()
+        return (1.0 - alpha_f) * law_departure(self.scene) * radius
+
+    @property
+    def cost_per_step(self) -> float:
+        """ns a step, roughly (COST)."""
+        s = self.system
+        entries = s.size ** 2 if s.dense else self.inv.entries
+        return step_cost(s, entries, self.G.shape[0] // 3, self.substeps)
+
+    @property
+    def info(self) -> dict:
+        alpha_m, alpha_f, beta_n, gamma, _, _ = self.coefficients
+        return {"rho_infinity": self.scene.fem.rho_infinity, "alpha_m": alpha_m, "alpha_f": alpha_f,
+                "system_size": self.system.size,
+                "factor_entries": self.system.size ** 2 if self.system.dense else self.inv.entries,
+                "factor_time_s": self.factor_time,
+                "friction_substeps": self.substeps,
+                "contraction_bound": self.contraction}
+
+    def integrate(self, plan, frame=None, every=0) -> Integration:
+        """Run ``plan.steps`` steps (or fewer, once settled: steady.py) from the preload."""
+        scene, model, system = self.scene, self.model, self.system
+        c, dt = scene.contact, scene.time.dt
+        alpha_m, alpha_f, beta_n, gamma, c_m, c_v = self.coefficients
+        cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
+        n, contacts = system.size, model.contact_nodes.size
+        nc = 3 * contacts
+        law = friction_law_args(scene)
+        use_energy = scene.fem.energy
+        ncols = len(columns(use_energy))
+
+        q, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
+        length = np.zeros(contacts)
+        ex, ey = np.ones(contacts), np.zeros(contacts)  # before any motion the asperities point along X
+        normal = model.normal0.copy()
+        friction = np.zeros((contacts, 2))
+        u0c = model.u0.reshape(-1, 3)[model.contact_nodes].copy()
+        g_prev = np.zeros(nc + 1)   # g at the preload: q = 0, f_c = (0, 0, N0), F_d = 0
+        g_prev[2:nc:3] = model.normal0
+        scalars = initial_scalars(extra=4)
+        sums = np.zeros(4)
+        recorder = Recorder(plan, ncols)
+        steady = SteadyState(scene)
+        work = Work.allocate(n, contacts, self.substeps)
+
+        others = np.setdiff1d(np.arange(n), system.contact_dofs.ravel())
+        operators = (self.mass_op, self.stiffness_op, self.inv, self.Z, self.G, self.h, self.e,
+                     system.contact_dofs, others, system.drive_index, system.drive_x, system.drive_y)
+        contact = (u0c, model.normal0, model.penalty_share, model.area_share,
+                   self.tangent, self.assumed)
+        base = (scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
+        scheme = (dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
+                  ITERATION_TOLERANCE * c.F_N / c.k_t, MAX_ITERATIONS)
+        drive = (scene.drive.k_d, scene.drive.v_d)
+        limits = (c.F_N, max(c.mu, scene.F_s / c.F_N))
+
+        def state(step):
+            return State(step, step * dt, model.u0 + system.expand(q), system.expand(v),
+                         length, ex, ey, normal, friction, scalars[XB], scalars[YB])
+
+        def advance(first, last):
+            failed, code, stop = implicit_steps(
+                first, last, operators, contact, law, base, drive, scheme, limits, use_energy,
+                q, v, a, length, ex, ey, normal, friction, g_prev, scalars, sums,
+                recorder.arrays, steady.arrays, work)
+            if code != trouble.OK:
+                raise trouble.failure(failed, code, scene,
+                                      f"try a smaller time.dt (the {self.name} integrator)")
+            return stop
+
+        last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance)
+        stats = {**loop_stats(scalars, loop_time),
+                 "iterations_max": int(scalars[ITER_MAX]),
+                 "iterations_mean": scalars[ITER_SUM] / max(last, 1),
+                 "iterations_stalled": int(scalars[STALLED]),
+                 **steady.report(last)}
+        return Integration(recorder.table(last), state(last), stats)
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _node(c, qx, qy, qz, step, contact_dofs, contact, law, scheme, length, ex, ey):
+    """Contact node c over the step, ending at the trial displacements (qx, qy, qz).
+
+    The friction law runs over the step's sub-steps (friction_substeps): the
+    node moves at its mean velocity over the step, the base along its exact
+    sinusoid; the normal force's dashpot sees the velocity interpolated
+    between v_n and v_{n+1} (Newmark, from q_{n+1}). Returns
+    contact.node_contact's (N, s, ex, ey, F_x, F_y) at the end, and
+    g_c = f_c + l q_c (g_z with l only where A holds it).
+    """
+    q_old, v_old, vt, qt, base_dx, base_free = step
+    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
+    dt, c_v, beta = scheme[0], scheme[6], scheme[7]
+    ix, iy, iz = contact_dofs[c, 0], contact_dofs[c, 1], contact_dofs[c, 2]
+    m = base_dx.shape[0]
+    slip_x, slip_y = (qx - q_old[ix]) / m, (qy - q_old[iy]) / m
+    z0, dz = u0c[c, 2] + q_old[iz], (qz - q_old[iz]) / m
+    vz0, vz1 = v_old[iz], vt[iz] + c_v * (qz - qt[iz])
+    s, e_x, e_y = length[c], ex[c], ey[c]
+    n_i = f_x = f_y = 0.0
+    for j in range(1, m + 1):
+        tau = j / m
+        n_i, s, e_x, e_y, f_x, f_y = node_contact(slip_x, slip_y, z0 + j * dz,
+                                                  vz0 + tau * (vz1 - vz0),
+                                                  base_dx[j - 1], base_free[j - 1], penalty_share[c],
+                                                  area_share[c], beta, law, dt / m, s, e_x, e_y)
+    return (n_i, s, e_x, e_y, f_x, f_y, -f_x + tangent[3 * c] * qx, -f_y + tangent[3 * c + 1] * qy,
+            n_i + tangent[3 * c + 2] * assumed[c] * qz)
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _contact_space(qc, xa, t, step, contact_dofs, contact, law, drive, scheme, length, ex, ey,
+                   work):
+    """Evaluate the contact forces at the trial contact displacements ``qc`` and drive x_A.
+
+    Fills g (work) with g_c = f_c + l q_c and returns (F_d, sum N, sum F_x, sum F_y);
+    the trial asperity states and forces land in work (not committed).
+    """
+    k_d, v_d = drive
+    g, trial_s, trial_ex, trial_ey = work.g, work.trial_s, work.trial_ex, work.trial_ey
+    normal_t, force_t = work.normal_t, work.force_t
+    f_n = f_x = f_y = 0.0
+    for c in range(contact_dofs.shape[0]):
+        (normal_t[c], trial_s[c], trial_ex[c], trial_ey[c], force_t[c, 0], force_t[c, 1],
+         g[3 * c], g[3 * c + 1], g[3 * c + 2]) = _node(
+            c, qc[3 * c], qc[3 * c + 1], qc[3 * c + 2], step, contact_dofs, contact, law, scheme,
+            length, ex, ey)
+        f_n += normal_t[c]
+        f_x += force_t[c, 0]
+        f_y += force_t[c, 1]
+    return k_d * (v_d * t - xa), f_n, f_x, f_y
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, law, scheme, mu_max,
+                       length, ex, ey, work):
+    """delta: the step of the contact-space fixed point.
+
+    -rho (the fixed-point step) on every node the matrix describes well; a
+    Newton step on the critical ones: those whose contact differs from the
+    matrix's assumption, or whose normal force is below CRITICAL of its
+    preload (there the Coulomb limit mu N_i is small, the friction
+    saturates and its tangent leaves k_t w_i, and the node may lift off
+    within the step). Their 3x3 tangents J_c = dg_c/dq_c are taken by forward
+    differences, and
+
+        (I - (1 - af) G_SS J_SS) d_S = -rho_S,   delta = -rho + (1 - af) G_:S J_SS d_S.
+    """
+    normal0, tangent, assumed = contact[1], contact[4], contact[5]
+    af1 = 1.0 - scheme[2]
+    g, normal_t, subset, jac = work.g, work.normal_t, work.subset, work.jac
+    for p in range(rho.shape[0]):
+        delta[p] = -rho[p]
+    nodes = 0
+    for c in range(normal_t.shape[0]):
+        active = 1.0 if normal_t[c] > 0.0 else 0.0
+        if active != assumed[c] or normal_t[c] < CRITICAL * normal0[c]:
+            subset[nodes] = c
+            nodes += 1
+    if nodes == 0:
+        return
+    m = 3 * nodes
+    tangents = np.empty((nodes, 3, 3))    # tangents[b, :, k] = dg_c / dq_(c,k)
+    for b in range(nodes):
+        c = subset[b]
+        scale = max(normal0[c], 1e-300)
+        steps = (FD_STEP * scale * max(mu_max, 0.01) / tangent[3 * c],
+                 FD_STEP * scale * max(mu_max, 0.01) / tangent[3 * c + 1],
+                 FD_STEP * scale / tangent[3 * c + 2])
+        for k in range(3):
+            x, y, z = qc[3 * c], qc[3 * c + 1], qc[3 * c + 2]
+            if k == 0:
+                x += steps[0]
+            elif k == 1:
+                y += steps[1]
+            else:
+                z += steps[2]
+            result = _node(c, x, y, z, step, contact_dofs, contact, law, scheme, length, ex, ey)
+            for r in range(3):
+                tangents[b, r, k] = (result[6 + r] - g[3 * c + r]) / steps[k]
+    small = np.empty((m, m))
+    rhs = np.empty(m)
+    for a in range(m):
+        pa = 3 * subset[a // 3] + a % 3
+        rhs[a] = -rho[pa]
+        for b in range(nodes):
+            cb = subset[b]
+            for k in range(3):          # column 3 b + k of G_SS J_SS
+                s = 0.0
+                for r in range(3):
+                    s += G[pa, 3 * cb + r] * tangents[b, r, k]
+                small[a, 3 * b + k] = (1.0 if a == 3 * b + k else 0.0) - af1 * s
+    d_s = np.linalg.solve(small, rhs)
+    for b in range(nodes):
+        cb = subset[b]
+        for r in range(3):
+            s = 0.0
+            for k in range(3):
+                s += tangents[b, r, k] * d_s[3 * b + k]
+            jac[r] = af1 * s
+        for r in range(3):
+            col = 3 * cb + r
+            for p in range(rho.shape[0]):
+                delta[p] += G[p, col] * jac[r]
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, law, drive, scheme,
+              length, ex, ey, work):
+    """Evaluate the contact space at (qc, x_a): fills g, target = y_c + (1 - af) (G g + h F_d)
+    and rho = qc - target (work). Returns (F_d, sum N, sum F_x, sum F_y, max |rho|, the
+    x_A the fixed point maps x_a to)."""
+    g, target, rho, yc = work.g, work.target, work.rho, work.yc
+    f_d, f_n, f_x, f_y = _contact_space(qc, x_a, t, step, contact_dofs, contact, law, drive,
+                                        scheme, length, ex, ey, work)
+    apply(G, g, target)
+    hg = residual = 0.0
+    for p in range(qc.shape[0]):
+        target[p] = yc[p] + af1 * (target[p] + h[p] * f_d)
+        rho[p] = qc[p] - target[p]
+        residual = max(residual, abs(rho[p]))
+        hg += h[p] * g[p]
+    return f_d, f_n, f_x, f_y, residual, y_a + af1 * (hg + e * f_d)
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def implicit_steps(first, last, operators, contact, law, base, drive, scheme, limits, use_energy,
+                   q, v, a, length, ex, ey, normal, friction, g_prev, scalars, sums,
+                   recorder, steady, work):
+    """Advance steps ``first`` .. ``last``. Returns (failed step, code, stop step):
+    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py)."""
+    (mass, stiffness, inv, Z, G, h, e, contact_dofs, others, drive_index, drive_x, drive_y) = operators
+    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
+    amplitude, omega, t_on, cos_theta, sin_theta, eta_y = base
+    k_d, v_d = drive
+    dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, beta, tolerance, max_iterations = scheme
+    stall_tolerance = tolerance * STALL_FACTOR
+    F_N, mu_max = limits
+    k_t = law[0]
+    qt, vt, x1, x2, r1, r2, rhs, y, q_new = (work.qt, work.vt, work.x1, work.x2, work.r1,
+                                             work.r2, work.rhs, work.y, work.q_new)
+    gw, qc, yc, target, g, delta, rho, qc_best = (work.gw, work.qc, work.yc, work.target,
+                                                  work.g, work.delta, work.rho, work.qc_best)
+    trial_s, trial_ex, trial_ey = work.trial_s, work.trial_ex, work.trial_ey
+    normal_t, force_t = work.normal_t, work.force_t
+    base_dx, base_free = work.base_dx, work.base_free
+    n = q.shape[0]
+    nc = qc.shape[0]
+    af1 = 1.0 - alpha_f
+    row = recorder[0]
+    xb, yb = scalars[XB], scalars[YB]
+    sin_phase, cos_phase = scalars[SIN], scalars[COS]
+    f_d_old = scalars[F_D]
+    cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
+    stop = 0
+    for i in range(first, last + 1):
+        t = i * dt
+        # Predictors: q_{n+1} = qt + beta_N dt^2 a_{n+1},  v_{n+1} = vt + gamma dt a_{n+1}.
+        for k in range(n):
+            qt[k] = q[k] + dt * v[k] + dt * dt * (0.5 - beta_n) * a[k]
+            vt[k] = v[k] + dt * (1.0 - gamma) * a[k]
+            x1[k] = c_m * qt[k] - alpha_m * a[k]
+            x2[k] = beta * ((1.0 - alpha_f) * (vt[k] - c_v * qt[k]) + alpha_f * v[k]) + alpha_f * q[k]
+        # b_n = M (c_M qt - alpha_m a_n) - K (beta ((1-af)(vt - c_V qt) + af v_n) + af q_n)
+        #       + alpha_f r_n - P_z N0
+        apply(mass, x1, r1)
+        apply(stiffness, x2, r2)
+        for k in range(n):
+            rhs[k] = r1[k] - r2[k]
+        for c in range(contact_dofs.shape[0]):
+            rhs[contact_dofs[c, 0]] -= alpha_f * friction[c, 0]
+            rhs[contact_dofs[c, 1]] -= alpha_f * friction[c, 1]
+            rhs[contact_dofs[c, 2]] += alpha_f * normal[c] - normal0[c]
+        for k in range(drive_index.shape[0]):
+            rhs[drive_index[k]] += alpha_f * drive_x[k] * f_d_old
+        solve(inv, rhs, y)
+
+        # Base at t_{n+1} (eqs 23-25).
+        u_base = 0.0
+        if t >= t_on:
+            sin_phase, cos_phase = base_phase(i, dt, omega, t_on, sin_phase, cos_phase,
+                                              cos_step, sin_step)
+            u_base = amplitude * sin_phase
+        xb_new, yb_new = u_base * cos_theta, u_base * sin_theta
+        dx_b, dy_b = xb_new - xb, yb_new - yb
+        # The base over the friction sub-steps (eq 23): its exact sinusoid, ending at u_base.
+        m = base_dx.shape[0]
+        u_prev = amplitude * math.sin(omega * (t - dt - t_on)) if t - dt >= t_on else 0.0
+        for j in range(m):
+            t_j = t - dt + (j + 1) * dt / m
+            u_j = u_base if j == m - 1 else (
+                amplitude * math.sin(omega * (t_j - t_on)) if t_j >= t_on else 0.0)
+            base_dx[j] = (u_j - u_prev) * cos_theta
+            base_free[j] = eta_y * (u_j - u_prev) * sin_theta  # phase 2: eta_y dy_b (eq 30)
+            u_prev = u_j
+        step = (q, v, vt, qt, base_dx, base_free)
+
+        # The contact-space fixed point, from the last step's g.
+        y_a = 0.0
+        for k in range(drive_index.shape[0]):
+            y_a += drive_x[k] * y[drive_index[k]]
+        apply(G, g_prev[:nc], target)
+        for p in range(nc):
+            yc[p] = y[contact_dofs[p // 3, p % 3]]
+            qc[p] = yc[p] + af1 * (target[p] + h[p] * g_prev[nc])
+        hg = 0.0
+        for p in range(nc):
+            hg += h[p] * g_prev[p]
+        x_a = x_a_best = y_a + af1 * (hg + e * g_prev[nc])
+        converged = False
+        iterations = 0
+        residual_old = best = np.inf
+        factor = 1.0
+        while iterations < max_iterations + FALLBACK_ITERATIONS:
+            iterations += 1
+            newton = iterations <= max_iterations
+            f_d, f_n, f_x, f_y, residual, x_a_new = _residual(
+                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, law, drive, scheme,
+                length, ex, ey, work)
+            if residual < best:
+                best = residual
+                qc_best[:] = qc
+                x_a_best = x_a
+            if newton and residual >= residual_old and factor > MIN_STEP:
+                # No progress (a Newton step across a contact kink): halve it.
+                factor *= 0.5
+                for p in range(nc):
+                    qc[p] -= factor * delta[p]
+                continue
+            if newton:
+                _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, law, scheme,
+                                   mu_max, length, ex, ey, work)
+            else:
+                for p in range(nc):
+                    delta[p] = -rho[p]
+            change = abs(x_a_new - x_a)
+            for p in range(nc):
+                change = max(change, abs(delta[p]))
+                qc[p] += delta[p]
+            x_a = x_a_new
+            residual_old = residual
+            factor = 1.0
+            if change <= tolerance:
+                converged = True
+                break
+        if not converged:
+            if best > stall_tolerance:
+                return i, trouble.NOT_CONVERGED, 0
+            # Stalled on a node's contact kink, within the looser tolerance: take the best iterate.
+            scalars[STALLED] += 1
+            qc[:] = qc_best
+            x_a = x_a_best
+            f_d, f_n, f_x, f_y, residual, x_a_new = _residual(
+                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, law, drive, scheme,
+                length, ex, ey, work)
+        scalars[ITER_MAX] = max(scalars[ITER_MAX], iterations)
+        scalars[ITER_SUM] += iterations
+
+        # q_{n+1} = y + (1 - alpha_f) Z [g_c; F_d] (with g from the last evaluation): on the
+        # contact DOFs that is the last iteration's target; the other rows take Z.
+        for p in range(nc):
+            gw[p] = g[p]
+            g_prev[p] = g[p]
+            q_new[contact_dofs[p // 3, p % 3]] = target[p]
+        gw[nc] = f_d
+        g_prev[nc] = f_d
+        for r in range(others.shape[0]):
+            k = others[r]
+            s = 0.0
+            for p in range(nc + 1):
+                s += Z[k, p] * gw[p]
+            q_new[k] = y[k] + af1 * s
+        if use_energy:
+            # Rayleigh: beta dq^T K dq / dt (r1 = K dq).
+            for k in range(n):
+                x1[k] = q_new[k] - q[k]
+            apply(stiffness, x1, r1)
+            rayleigh = 0.0
+            for k in range(n):
+                rayleigh += x1[k] * r1[k]
+            sums[energy.D_DAMP] += beta * rayleigh / dt
+            sums[energy.W_DRIVE] += (af1 * f_d + alpha_f * f_d_old) * v_d * dt
+            energy.contact_step(q, q_new, contact_dofs, penalty_share, k_t * area_share, length,
+                                trial_s, friction, force_t, normal, normal_t, alpha_f, dx_b,
+                                eta_y * dy_b, beta, dt, sums)
+        for k in range(n):
+            a_new = (q_new[k] - qt[k]) / (beta_n * dt * dt)
+            v[k] = vt[k] + gamma * dt * a_new
+            a[k] = a_new
+            q[k] = q_new[k]
+        # Commit the contact state of the converged evaluation.
+        for c in range(length.shape[0]):
+            length[c] = trial_s[c]
+            ex[c] = trial_ex[c]
+            ey[c] = trial_ey[c]
+            normal[c] = normal_t[c]
+            friction[c, 0] = force_t[c, 0]
+            friction[c, 1] = force_t[c, 1]
+        xb, yb = xb_new, yb_new
+        f_d_old = f_d
+
+        magnitude = 0.0
+        for c in range(length.shape[0]):
+            magnitude += math.sqrt(friction[c, 0] ** 2 + friction[c, 1] ** 2)
+        x_out = y_out = 0.0
+        for k in range(drive_index.shape[0]):
+            x_out += drive_x[k] * q[drive_index[k]]
+            y_out += drive_y[k] * q[drive_index[k]]
+        f_d = k_d * (v_d * t - x_out)  # eq 17
+        code = finish_step(t, t_on, f_d, f_n, f_x, f_y, x_out, y_out, xb, yb, magnitude, F_N,
+                           mu_max, scalars, row)
+        if code != trouble.OK:
+            return i, code, 0
+        if use_energy:
+            apply(mass, v, r1)
+            apply(stiffness, q, r2)
+            kinetic, elastic = energy.stored(q, v, r1, r2, contact_dofs, u0c[:, 2], normal0,
+                                             penalty_share, k_t * area_share, length, f_d, k_d)
+            row[9] = sums[energy.W_DRIVE]
+            row[10] = sums[energy.W_BASE]
+            row[11] = kinetic
+            row[12] = elastic
+            row[13] = sums[energy.D_FRIC]
+            row[14] = sums[energy.D_DAMP]
+        if keep_step(i, f_d, recorder, steady):
+            stop = i
+            break
+
+    scalars[XB], scalars[YB] = xb, yb
+    scalars[SIN], scalars[COS] = sin_phase, cos_phase
+    scalars[F_D] = f_d_old
+    return 0, trouble.OK, stop

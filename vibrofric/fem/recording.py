@@ -1,0 +1,192 @@
+"""What an FE run keeps, and how it proceeds: the recorded rows, the state at its end,
+its statistics, the chunks between ParaView frames.
+
+Every integrator records one row per kept step (COLUMNS, plus ENERGY when
+fem.energy is on) with ``keep``. Which steps are kept is the analytic
+stepper's RecordPlan (analytic/series.py): every ``stride``-th step, and every
+step of the last ``full`` steps (the averaging window of F_dv and the plotted
+cycles). A run that may stop early (steady.py) does not know in advance which
+steps are its last ones, so the most recent ``full`` rows are kept in a ring
+buffer as well; ``Recorder.table(last)`` then returns exactly the rows that
+RecordPlan(last, stride, last - full + 1) names: the series ends where the run
+stopped, at full resolution over its last ``full`` steps, and
+analytic.summary.summarize averages the settled cycles.
+"""
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from ..analytic.series import COLUMNS as SERIES_COLUMNS
+from ..analytic.series import RecordPlan
+from . import trouble
+from .steady import settled
+
+# The recorded table: the analytic TimeSeries columns, then the summed normal force.
+COLUMNS = SERIES_COLUMNS + ("F_n",)
+
+# fem.energy adds, cumulative from t = 0 and relative to the static preload (J):
+#   W_drive  work of the drive point B on the spring: int F_d v_d dt
+#   W_base   work of the base on the asperities: sum_i int -F_i . db (db = (dx_b, eta_y dy_b))
+#   E_kin    kinetic energy 1/2 v^T M v
+#   E_el     elastic energy: the block and its penalty springs under the dead loads
+#            (their total potential above the preload's), the drive spring
+#            F_d^2 / (2 k_d) and the asperities sum_i k_t w_i s_i^2 / 2
+#   D_fric   friction dissipation: sum over steps and nodes of F_i . (du_i - db) - d(k_t w_i s_i^2 / 2)
+#   D_damp   Rayleigh damping of the block and the penalty dashpots
+# Balance: W_drive + W_base = E_kin + E_el + D_fric + D_damp (+ the integrator's
+# numerical dissipation, zero for fem.rho_infinity = 1); see energy.py.
+ENERGY = ("W_drive", "W_base", "E_kin", "E_el", "D_fric", "D_damp")
+
+
+def columns(energy: bool) -> tuple:
+    return COLUMNS + (ENERGY if energy else ())
+
+
+def extra_columns(energy: bool) -> tuple:
+    """The columns after the TimeSeries' standard ones (TimeSeries.extra)."""
+    return columns(energy)[len(SERIES_COLUMNS):]
+
+
+@dataclass
+class State:
+    """A run's state at one step, on the block's nodes (DOLFINx dof order).
+
+    What the ParaView frames and FEResult.fields show (paraview.node_fields).
+    """
+
+    step: int
+    t: float
+    u: np.ndarray           # (dofs,) displacement, including the preload
+    v: np.ndarray           # (dofs,) velocity
+    length: np.ndarray      # (contacts,) asperity length s
+    ex: np.ndarray          # (contacts,) asperity direction e
+    ey: np.ndarray
+    normal: np.ndarray      # (contacts,) normal force N_i
+    friction: np.ndarray    # (contacts, 2) friction force F_i (acts on the body as -F_i)
+    x_b: float
+    y_b: float
+
+
+@dataclass
+class Integration:
+    """What an integrator returns: the recorded table, the final state, statistics.
+
+    stats holds at least loop_time_s, F_n_min, F_n_max, F_n_min_after_t_on,
+    F_n_max_after_t_on, steps (the steps run) and the early-stop entries of
+    steady.SteadyState.report().
+    """
+
+    table: np.ndarray       # (rows, len(columns))
+    state: State            # at the end of the run
+    stats: dict
+
+
+class Recorder:
+    """The kept rows of a run that may stop before ``plan.steps``."""
+
+    def __init__(self, plan: RecordPlan, ncols: int):
+        self.plan = plan
+        self.full = plan.steps - plan.full_from + 1
+        self.strided = np.empty((plan.steps // plan.stride, ncols))
+        self.ring = np.empty((self.full, ncols))
+        self.count = np.zeros(1, dtype=np.int64)  # strided rows written
+        self.row = np.empty(ncols)                # the row being filled
+
+    @property
+    def arrays(self):
+        """What the numba loops take: (row, strided, ring, count, stride)."""
+        return self.row, self.strided, self.ring, self.count, self.plan.stride
+
+    def table(self, last: int) -> np.ndarray:
+        """The rows of RecordPlan(last, stride, max(1, last - full + 1)), in step order."""
+        plan = RecordPlan(last, self.plan.stride, max(1, last - self.full + 1))
+        before = (plan.full_from - 1) // plan.stride       # strided steps before the full window
+        steps = np.arange(plan.full_from, last + 1)
+        table = np.concatenate([self.strided[:before], self.ring[steps % self.full]])
+        assert table.shape[0] == plan.rows
+        return table
+
+
+@njit(cache=True)
+def keep(i, recorder):
+    """Keep the filled ``row`` as step i's: in the ring, and if i is a stride multiple."""
+    row, strided, ring, count, stride = recorder
+    ring[i % ring.shape[0], :] = row
+    if i % stride == 0:
+        strided[count[0], :] = row
+        count[0] += 1
+
+
+@njit(cache=True, error_model="numpy")
+def keep_step(i, f_d, recorder, steady):
+    """Keep step i's row; True when the run may stop after it (steady.settled)."""
+    keep(i, recorder)
+    return settled(i, f_d, steady)
+
+
+# scalars[]: the state every time loop carries between chunks (an integrator may add more).
+XB, YB, SIN, COS, FN_MIN, FN_MAX, FN_MIN_ON, FN_MAX_ON = range(8)
+
+
+def initial_scalars(extra: int = 0) -> np.ndarray:
+    """The base at rest, sin/cos of its phase, the normal-force extremes unset, ``extra`` zeros."""
+    return np.array([0.0, 0.0, 0.0, 1.0, np.inf, -np.inf, np.inf, -np.inf] + [0.0] * extra)
+
+
+@njit(cache=True, error_model="numpy")
+def finish_step(t, t_on, f_d, f_n, f_x, f_y, x, y, x_b, y_b, friction_magnitude, F_N, mu_max,
+                scalars, row):
+    """Check a finished step (trouble.step_trouble), track the summed normal force's
+    extremes and fill the row's COLUMNS. Returns the trouble code."""
+    code = trouble.step_trouble(f_d, f_n, friction_magnitude, F_N, mu_max)
+    if code != trouble.OK:
+        return code
+    scalars[FN_MIN] = min(scalars[FN_MIN], f_n)
+    scalars[FN_MAX] = max(scalars[FN_MAX], f_n)
+    if t >= t_on:
+        scalars[FN_MIN_ON] = min(scalars[FN_MIN_ON], f_n)
+        scalars[FN_MAX_ON] = max(scalars[FN_MAX_ON], f_n)
+    row[0] = t
+    row[1] = f_d
+    row[2] = f_x
+    row[3] = f_y
+    row[4] = x
+    row[5] = y
+    row[6] = x_b
+    row[7] = y_b
+    row[8] = f_n
+    return code
+
+
+def run_in_chunks(steps: int, frame, every: int, state, advance):
+    """Run steps 1..steps by ``advance(first, last) -> stop step or 0``, returning to
+    Python only for the ParaView frames: frame(state(i)) at i = 0, every ``every``
+    steps and at the last step. Returns (the last step run, the loop's seconds)."""
+    chunk = every if (frame is not None and every > 0) else steps
+    if frame is not None:
+        frame(state(0))
+    start = time.perf_counter()
+    first, last = 1, 0
+    while first <= steps:
+        last = min(steps, first + chunk - 1)
+        stop = advance(first, last)
+        if stop:
+            last = stop
+            break
+        if frame is not None and last % chunk == 0:
+            frame(state(last))
+        first = last + 1
+    loop_time = time.perf_counter() - start
+    if frame is not None and last % chunk != 0:
+        frame(state(last))
+    return last, loop_time
+
+
+def loop_stats(scalars, loop_time) -> dict:
+    """The statistics every integrator reports."""
+    return {"loop_time_s": loop_time,
+            "F_n_min": scalars[FN_MIN], "F_n_max": scalars[FN_MAX],
+            "F_n_min_after_t_on": scalars[FN_MIN_ON], "F_n_max_after_t_on": scalars[FN_MAX_ON]}

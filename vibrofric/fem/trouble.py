@@ -1,0 +1,58 @@
+"""Numerical trouble: what every integrator checks after each step, and what it says.
+
+A run in trouble stops at once and is reported as analytic.series.NumericalError
+naming the time, the step and what went wrong, with a hint for the scene.
+"""
+
+import math
+
+from numba import njit
+
+from ..analytic.series import NumericalError
+
+# Codes returned by the time loops, and what they mean.
+OK, NOT_FINITE, FRICTION_DIVERGED, NORMAL_BLOWUP, LIFT_OFF, NOT_CONVERGED = range(6)
+
+# A summed friction force beyond DIVERGED times its Coulomb limit, or a summed
+# normal force beyond NORMAL_LIMIT times F_N, is numerical divergence, not physics
+# (a Dahl asperity never exceeds its sliding length; the normal load is F_N).
+DIVERGED = 3.0
+NORMAL_LIMIT = 10.0
+
+_WHAT = {
+    NOT_FINITE: "a force became NaN or infinite",
+    FRICTION_DIVERGED: f"the summed friction force exceeded {DIVERGED} times its Coulomb limit "
+                       "(a diverging asperity update)",
+    NORMAL_BLOWUP: f"the summed normal force exceeded {NORMAL_LIMIT} F_N",
+    LIFT_OFF: "the block lost contact with the base (summed normal force 0)",
+    NOT_CONVERGED: "the contact iteration of the step did not converge (nodes lifting off and "
+                   "touching down within the step: the block is bouncing on its contact, or "
+                   "the step is too long for the friction law)",
+}
+
+
+@njit(cache=True, error_model="numpy")
+def step_trouble(f_d, f_n, friction_magnitude, F_N, mu_max):
+    """The trouble code of a finished step (OK if none)."""
+    if not (math.isfinite(f_d) and math.isfinite(f_n) and math.isfinite(friction_magnitude)):
+        return NOT_FINITE
+    if f_n > NORMAL_LIMIT * F_N:
+        return NORMAL_BLOWUP
+    if f_n <= 0.0:
+        return LIFT_OFF
+    if friction_magnitude > DIVERGED * mu_max * max(f_n, F_N):
+        return FRICTION_DIVERGED
+    return OK
+
+
+def failure(step, code, scene, hint) -> NumericalError:
+    """The error for a run that stopped at ``step`` with ``code``; ``hint`` says what to change.
+
+    The paper's explicit Dahl update diverging gets its own hint whatever the integrator.
+    """
+    dt = scene.time.dt
+    if code == FRICTION_DIVERGED and scene.contact.update == "paper":
+        hint = ("the paper's explicit Dahl update is stable only while |v_r| dt < 2 s_c per node; "
+                "use contact.update = \"exact\" or a smaller time.dt")
+    return NumericalError(f"FE run failed at t = {step * dt:.6g} s (step {step}, dt = {dt:g} s): "
+                          f"{_WHAT[code]}; {hint}")
