@@ -1,6 +1,8 @@
 # Two commands do everything on a fresh Debian machine:
 #   make demo   install what is missing, then run the default scene
-#   make test   install what is missing, then run the test suite
+#   make test   install what is missing, then run the test suite (all of it,
+#               the slow FE cases too: ~7 min on two cores; "make test-fast"
+#               runs the default selection, ~2 min)
 # Both are idempotent: a second call installs nothing.
 
 VENV    ?= .venv
@@ -9,20 +11,26 @@ DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-venv python3
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEMO_OUT ?= results/demo
 
-.PHONY: demo test test-all bench setup clean clean-cache
+.PHONY: demo test test-fast bench bench-full setup clean clean-cache
 
 # The paper's Fig 7 scene (longitudinal, k_v = 6) to 0.3 s, FE and analytic.
 demo: $(VENV)/.installed
 	$(VENV)/bin/vibrofric run scenes/longitudinal.toml --set time.T=0.3 --out $(DEMO_OUT)
 
 test: $(VENV)/.installed
-	$(PY) -m pytest -q
-
-test-all: $(VENV)/.installed
 	$(PY) -m pytest -q -m ""
 
+test-fast: $(VENV)/.installed
+	$(PY) -m pytest -q
+
+# Speed against error of every method (README "Choosing settings"), then the
+# analytic stepper's own timings (benchmarks/).
 bench: $(VENV)/.installed
+	$(VENV)/bin/vibrofric bench --quick --out results/bench
 	$(PY) benchmarks/analytic_speed.py
+
+bench-full: $(VENV)/.installed
+	$(VENV)/bin/vibrofric bench --out results/bench-full
 
 setup: $(VENV)/.installed
 

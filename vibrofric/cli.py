@@ -47,6 +47,11 @@ def build_parser() -> argparse.ArgumentParser:
                        help="run the FE model (and the analytic stepper) at every point")
     sweep.add_argument("--workers", type=int,
                        help="processes, one run each (default: both cores; under mpirun: the ranks)")
+
+    bench = commands.add_parser("bench", help="speed against error of every method, side by side")
+    bench.add_argument("--out", type=Path, help="directory for bench.md and bench.png "
+                                                "(default results/bench-<time>/)")
+    bench.add_argument("--quick", action="store_true", help="the reduced set, under 2 minutes")
     return parser
 
 
@@ -94,9 +99,11 @@ def cmd_run(args) -> None:
         if done.fe_info["frames"]:
             block_picture(stage / "paraview" / "block.pvd", stage / "block.png")
     fe, analytic = document["fe"], document["analytic"]
+    settled = (f", settled at {fe['stop_time_s']:g} s, {fe['saving']:.0%} of the steps saved"
+               if fe["stopped_early"] else "")
     _emit(args, document,
-          f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['dofs']} DOFs, "
-          f"{fe['wall_time_s']:.1f} s), analytic {_number(analytic['F_dv_over_F_d0'])}; "
+          f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['integrator']}, {fe['dofs']} DOFs, "
+          f"{fe['wall_time_s']:.1f} s{settled}), analytic {_number(analytic['F_dv_over_F_d0'])}; "
           f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}")
 
 
@@ -116,7 +123,20 @@ def cmd_sweep(args) -> int:
     return EXIT_POINTS_FAILED if outcome.failed else 0
 
 
-COMMANDS = {"analytic": cmd_analytic, "run": cmd_run, "sweep": cmd_sweep}
+def cmd_bench(args) -> None:
+    from . import bench
+
+    plan = bench.QUICK if args.quick else bench.FULL
+    result = bench.bench(plan, progress=lambda text: print(text, file=sys.stderr))
+    table = bench.markdown(result)
+    target = args.out or output.default_dir("bench")
+    with output.staged(target) as stage:
+        (stage / "bench.md").write_text(table)
+        bench.plot(result, stage / "bench.png")
+    print(table)
+
+
+COMMANDS = {"analytic": cmd_analytic, "bench": cmd_bench, "run": cmd_run, "sweep": cmd_sweep}
 
 
 def main(argv=None) -> int:

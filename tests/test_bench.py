@@ -1,0 +1,82 @@
+"""vibrofric bench: its references, errors, fitted exponents and report, on a small plan."""
+
+import math
+
+import pytest
+
+from vibrofric import bench
+from vibrofric.cli import main
+
+pytest.importorskip("dolfinx")
+
+# The Fig 7 scene shortened to 0.2 s (F_dv over the cycles nearest one drive
+# period from 0.14 s), the tiny mesh: seconds, not minutes.
+SMALL = bench.Plan(
+    T=0.2,
+    analytic_dts=(4e-6, 2e-6, 1e-6),
+    analytic_reference_dt=1e-8,
+    fe_cases=(("explicit", "tiny", 2e-6), ("reduced", "tiny", 1e-5), ("reduced", "tiny", 2e-5)),
+    fe_reference=("explicit", "tiny", 1e-6),
+    dofs_cases=(("reduced", (("tiny", 1e-5), ("2x2x2", 1e-5), ("2x3x3", 1e-5))),),
+    dofs_T=0.01,
+    time_cases=(("reduced", "tiny", 1e-5, (0.01, 0.02, 0.04)),),
+)
+
+
+def test_fitted_exponent_recovers_a_power_law():
+    x = [10.0, 100.0, 1000.0]
+    assert bench.fitted_exponent(x, [3.0 * v ** 1.5 for v in x]) == pytest.approx(1.5, abs=1e-12)
+
+
+@pytest.fixture(scope="module")
+def small():
+    return bench.bench(SMALL, progress=lambda text: None)
+
+
+def test_errors_are_against_each_models_own_reference(small):
+    rows = {(m.method, m.setting): m for m in small["rows"]}
+    # The paper update's error is first order in dt (its Euler step,
+    # spec/model.md): halving dt must halve it, within 1.5-2.5x (the higher
+    # orders of a 1e-2-sized error). The exact update's smaller error changes
+    # sign with dt (the split's error against the update's): it must shrink.
+    def errors(update):
+        return [abs(rows[(f"analytic {update}", f"dt = {dt:g}")].error) for dt in SMALL.analytic_dts]
+    paper, exact = errors("paper"), errors("exact")
+    assert 1.5 < paper[0] / paper[1] < 2.5 and 1.5 < paper[1] / paper[2] < 2.5
+    assert exact[0] > exact[1] > exact[2] and exact[2] < paper[2] / 10
+    # FE rows are compared with the FE reference, and separately with the analytic one.
+    reference = small["fe_reference"].ratio
+    for m in small["rows"]:
+        if m.method.startswith("FE"):
+            assert m.error == pytest.approx((m.ratio - reference) / reference, rel=1e-12)
+            assert m.vs_analytic == pytest.approx(
+                (m.ratio - small["analytic_reference"]) / small["analytic_reference"], rel=1e-12)
+            assert m.loop_s > 0 and m.setup_s > 0 and m.wall_s >= m.loop_s + m.setup_s * 0.99
+
+
+def test_growth_is_fitted_on_the_measured_points(small):
+    for axis, integrator, points, x, y, exponent in small["growth"]:
+        assert len(points) == 3 and all(p.loop_s > 0 for p in points)
+        assert exponent == pytest.approx(bench.fitted_exponent(x, y), rel=1e-12)
+        assert math.isfinite(exponent)
+    time_axis = [g for g in small["growth"] if g[0] == "simulated time"][0]
+    # The loop's time grows with the steps run; doubling the simulated time
+    # doubles them. Timing noise on a loaded machine stays within 0.5-1.5.
+    assert 0.5 < time_axis[5] < 1.5
+
+
+def test_the_report_names_every_method_and_the_plot_is_written(small, tmp_path):
+    table = bench.markdown(small)
+    for method in ("analytic paper", "analytic exact", "FE explicit", "FE reduced"):
+        assert f"| {method} |" in table
+    assert table.count("| DOFs | reduced |") == 1 and "| simulated time | reduced |" in table
+    bench.plot(small, tmp_path / "bench.png")
+    assert (tmp_path / "bench.png").stat().st_size > 10_000
+
+
+def test_bench_command_writes_its_report(small, tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(bench, "bench", lambda plan, progress: small)
+    out = tmp_path / "bench"
+    assert main(["bench", "--quick", "--out", str(out)]) == 0
+    assert {p.name for p in out.iterdir()} == {"bench.md", "bench.png"}
+    assert (out / "bench.md").read_text() in capsys.readouterr().out

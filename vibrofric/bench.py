@@ -1,0 +1,255 @@
+"""``vibrofric bench``: wall time against error, every method side by side in one run.
+
+The scene is the paper's Fig 7 case (scenes/longitudinal.toml: k_v = 6, 0.3 s
+simulated). Each method's answer, F_dv/F_d0, is compared with a converged
+reference of the *same* model:
+
+- the analytic stepper (paper and exact Dahl updates, several dt) against the
+  exact-update stepper at plan.analytic_reference_dt (100x below the finest
+  step measured; its own error is below 1e-6);
+- the FE model (integrators x dt, and mesh levels) against the FE reference
+  plan.fe_reference: the explicit integrator at the smallest step on the
+  finest mesh of the plan. Its own time-step error is bounded by the gap to
+  the explicit run at twice its step (a row of the table);
+
+and, separately, every FE answer against the analytic reference: the lumped
+model's own error (the block's compliance and rocking, spec/model.md).
+
+It also measures how the cost grows, on a short vibrated run (GROWTH: the
+vibration from 1 ms, F_dv over 20 cycles): the time loop's wall time per
+simulated second against DOFs over the mesh levels (explicit at each level's
+own stable step, implicit and reduced at a fixed step), and against
+simulated time on one mesh, each with the fitted power-law exponent. The
+set-up (the model's assembly, the factorization, the reduction) is reported
+beside the loop: it is paid once a run, so it is not part of either slope.
+
+Timings are of one core: the bench runs everything in this process, one
+run after another, after compiling every loop once (warm_up).
+"""
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import scene as scene_module
+
+SCENE = Path(__file__).resolve().parent.parent / "scenes" / "longitudinal.toml"
+
+# The short run the cost growth is measured on: vibration from 1 ms, F_dv over 20 cycles.
+GROWTH = {"vibration.t_on": 0.001, "time.average_cycles": 20}
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What one bench run measures."""
+
+    T: float                   # s simulated (the Fig 7 scene)
+    analytic_dts: tuple        # steps of the analytic stepper, both updates
+    analytic_reference_dt: float
+    fe_cases: tuple            # (integrator, mesh, dt): speed against error
+    fe_reference: tuple        # (integrator, mesh, dt) of the converged FE reference
+    dofs_cases: tuple          # (integrator, ((mesh, dt), ...)): cost against DOFs
+    dofs_T: float              # s simulated in the DOFs cases
+    time_cases: tuple          # (integrator, mesh, dt, (T, ...)): cost against simulated time
+
+
+_MESH_STEPS = (("tiny", 2e-6), ("coarse", 1e-6), ("medium", 5e-7))  # explicit: below each stable step
+
+QUICK = Plan(
+    T=0.3,
+    analytic_dts=(1e-5, 4e-6, 2e-6, 1e-6),
+    analytic_reference_dt=1e-8,
+    fe_cases=(("explicit", "coarse", 1e-6),
+              ("implicit", "coarse", 2e-5), ("implicit", "coarse", 1e-5),
+              ("reduced", "coarse", 2e-5), ("reduced", "coarse", 1e-5),
+              ("reduced", "coarse", 5e-6)),
+    fe_reference=("explicit", "coarse", 5e-7),
+    dofs_cases=(("explicit", _MESH_STEPS),
+                ("implicit", tuple((mesh, 1e-5) for mesh, _ in _MESH_STEPS)),
+                ("reduced", tuple((mesh, 1e-5) for mesh, _ in _MESH_STEPS))),
+    dofs_T=0.01,
+    time_cases=(("implicit", "coarse", 1e-5, (0.01, 0.02, 0.04)),
+                ("reduced", "coarse", 1e-5, (0.02, 0.04, 0.08, 0.16))),
+)
+
+FULL = Plan(
+    T=0.3,
+    analytic_dts=(2e-5, 1e-5, 4e-6, 2e-6, 1e-6, 5e-7),
+    analytic_reference_dt=5e-9,
+    fe_cases=QUICK.fe_cases + (("explicit", "coarse", 5e-7), ("implicit", "coarse", 5e-6),
+                               ("reduced", "coarse", 2.5e-6),
+                               ("explicit", "medium", 5e-7), ("reduced", "medium", 1e-5)),
+    fe_reference=("explicit", "medium", 2.5e-7),
+    dofs_cases=(("explicit", _MESH_STEPS),
+                ("implicit", tuple((mesh, 1e-5) for mesh, _ in _MESH_STEPS)),
+                ("reduced", tuple((mesh, 1e-5) for mesh, _ in _MESH_STEPS) + (("fine", 1e-5),))),
+    dofs_T=0.01,
+    time_cases=QUICK.time_cases[:1] + (("reduced", "coarse", 1e-5, (0.02, 0.04, 0.08, 0.16, 0.32)),),
+)
+
+
+@dataclass
+class Measurement:
+    method: str                # "analytic paper", "FE explicit", ...
+    setting: str               # "dt = 1e-6", "coarse, dt = 1e-5"
+    dofs: int                  # 0 for the analytic stepper
+    wall_s: float              # the whole run
+    ratio: float               # F_dv / F_d0
+    loop_s: float = math.nan   # FE: the time loop alone
+    setup_s: float = math.nan  # FE: the model, the factorization, the reduction
+    error: float = math.nan    # |ratio - reference| / reference of the same model
+    vs_analytic: float = math.nan  # (ratio - analytic reference) / analytic reference
+
+
+def base_scene(plan: Plan):
+    return scene_module.load(SCENE, [f"time.T={plan.T}", "fem.output_every=0"])
+
+
+def measure_analytic(scene, update: str, dt: float, repeats: int = 3) -> Measurement:
+    """The analytic stepper's answer and its best wall time of ``repeats`` runs."""
+    from .analytic.run import run
+
+    case = scene.with_values({"contact.update": update, "time.dt": dt})
+    best = min((run(case)[1] for _ in range(repeats)), key=lambda s: s["wall_time_s"])
+    return Measurement(f"analytic {update}", f"dt = {dt:g}", 0, best["wall_time_s"],
+                       best["F_dv_over_F_d0"])
+
+
+def measure_fe(scene, integrator: str, mesh: str, dt: float, values=None) -> Measurement:
+    """One FE run of ``scene`` with the integrator, mesh level and step (and ``values``)."""
+    from .analytic.summary import summarize
+    from .fem import run_fe
+
+    case = scene.with_values({"fem.integrator": integrator, "fem.mesh": mesh, "time.dt": dt,
+                              **(values or {})})
+    start = time.perf_counter()
+    result = run_fe(case)
+    wall = time.perf_counter() - start
+    summary = summarize(result.series, case, wall)
+    info = result.info
+    return Measurement(f"FE {integrator}", f"{mesh}, dt = {dt:g}", info["dofs"], wall,
+                       summary["F_dv_over_F_d0"], info["loop_time_s"], info["setup_time_s"])
+
+
+def warm_up(scene, integrators) -> None:
+    """Compile every integrator's loop once (numba caches it on disk) so that the timings
+    are of the runs: a 5 ms run on the one-element mesh."""
+    for integrator in integrators:
+        measure_fe(scene, integrator, "tiny", 1e-6,
+                   {"vibration.t_on": 0.0, "time.T": 0.005, "time.average_cycles": 4})
+
+
+def fitted_exponent(x, y) -> float:
+    """The slope p of log y = p log x + c, least squares."""
+    return float(np.polyfit(np.log(x), np.log(y), 1)[0])
+
+
+def relative(value: float, reference: float) -> float:
+    return (value - reference) / abs(reference)
+
+
+def bench(plan: Plan, progress=print) -> dict:
+    """Run every measurement of the plan; return what markdown() and plot() show."""
+    scene = base_scene(plan)
+    progress(f"analytic reference (exact update, dt = {plan.analytic_reference_dt:g})")
+    analytic_reference = measure_analytic(scene, "exact", plan.analytic_reference_dt, repeats=1).ratio
+
+    rows = []
+    for update in ("paper", "exact"):
+        for dt in plan.analytic_dts:
+            m = measure_analytic(scene, update, dt)
+            m.error = m.vs_analytic = relative(m.ratio, analytic_reference)
+            rows.append(m)
+
+    integrators = sorted({case[0] for case in plan.fe_cases + (plan.fe_reference,)})
+    progress("compiling the FE loops")
+    warm_up(scene, integrators)
+    progress(f"FE reference: {plan.fe_reference}")
+    fe_reference = measure_fe(scene, *plan.fe_reference)
+    fe_reference.error = 0.0
+    fe_reference.vs_analytic = relative(fe_reference.ratio, analytic_reference)
+    for case in plan.fe_cases:
+        m = measure_fe(scene, *case)
+        progress(f"FE {case}: {m.wall_s:.1f} s")
+        m.error = relative(m.ratio, fe_reference.ratio)
+        m.vs_analytic = relative(m.ratio, analytic_reference)
+        rows.append(m)
+
+    growth = []
+    short = dict(GROWTH, **{"time.T": plan.dofs_T})
+    for integrator, steps in plan.dofs_cases:
+        progress(f"cost against DOFs: {integrator}")
+        points = [measure_fe(scene, integrator, mesh, dt, short) for mesh, dt in steps]
+        progress(f"  {', '.join(f'{p.wall_s:.1f}' for p in points)} s")
+        growth.append(("DOFs", integrator, points,
+                       [p.dofs for p in points], [p.loop_s for p in points]))
+    for integrator, mesh, dt, spans in plan.time_cases:
+        progress(f"cost against simulated time: {integrator}")
+        points = [measure_fe(scene, integrator, mesh, dt, dict(GROWTH, **{"time.T": T}))
+                  for T in spans]
+        progress(f"  {', '.join(f'{p.wall_s:.1f}' for p in points)} s")
+        growth.append(("simulated time", integrator, points, list(spans),
+                       [p.loop_s for p in points]))
+    growth = [(axis, integrator, points, x, y, fitted_exponent(x, y))
+              for axis, integrator, points, x, y in growth]
+    return {"plan": plan, "analytic_reference": analytic_reference, "fe_reference": fe_reference,
+            "rows": rows, "growth": growth}
+
+
+def markdown(result: dict) -> str:
+    """The bench as Markdown: speed against error, then the cost growth."""
+    plan, fe_ref = result["plan"], result["fe_reference"]
+    lines = [
+        f"Fig 7 scene (longitudinal, k_v = 6, {plan.T:g} s simulated), one core.",
+        f"Analytic reference: the exact update at dt = {plan.analytic_reference_dt:g} s, "
+        f"F_dv/F_d0 = {result['analytic_reference']:.5f}. FE reference: {fe_ref.method[3:]}, "
+        f"{fe_ref.setting} s ({fe_ref.dofs} DOFs, {fe_ref.wall_s:.3g} s wall), "
+        f"F_dv/F_d0 = {fe_ref.ratio:.5f}, {fe_ref.vs_analytic:+.2%} from the analytic reference.",
+        "",
+        "| method | setting | DOFs | wall s | set-up s | F_dv/F_d0 | error vs own reference "
+        "| FE vs analytic |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for m in result["rows"]:
+        fe = m.dofs > 0
+        lines.append(f"| {m.method} | {m.setting} | {m.dofs if fe else '-'} | {m.wall_s:.3g} "
+                     f"| {f'{m.setup_s:.2g}' if fe else '-'} | {m.ratio:.5f} | {m.error:+.2e} "
+                     f"| {f'{m.vs_analytic:+.2%}' if fe else '-'} |")
+    lines += ["",
+              f"Cost growth: the time loop's wall time on a short run (vibration from "
+              f"{GROWTH['vibration.t_on'] * 1e3:g} ms, F_dv over {GROWTH['time.average_cycles']} "
+              f"cycles; {plan.dofs_T:g} s simulated against DOFs), set-up aside.",
+              "",
+              "| cost against | integrator | points (size: loop s, set-up s) | fitted exponent |",
+              "|---|---|---|---|"]
+    for axis, integrator, points, x, y, exponent in result["growth"]:
+        pairs = ", ".join(f"{size:g}: {p.loop_s:.3g}, {p.setup_s:.2g}"
+                          for size, p in zip(x, points))
+        lines.append(f"| {axis} | {integrator} | {pairs} | {exponent:.2f} |")
+    return "\n".join(lines) + "\n"
+
+
+def plot(result: dict, path) -> None:
+    """Wall time against error, log-log, one line per method."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for method in dict.fromkeys(m.method for m in result["rows"]):
+        points = sorted((m.wall_s, abs(m.error)) for m in result["rows"]
+                        if m.method == method and m.error != 0.0 and "medium" not in m.setting)
+        if points:
+            ax.loglog(*zip(*points), "o-", ms=4, label=method)
+    ax.set(xlabel="wall time, one core (s)",
+           ylabel="|error| of F_dv/F_d0 against its own reference",
+           title=f"speed against error: Fig 7 scene, {result['plan'].T:g} s simulated")
+    ax.legend(fontsize=8)
+    ax.grid(True, which="both", lw=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
