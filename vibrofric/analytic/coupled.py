@@ -45,6 +45,17 @@ def base_phase(i, dt, omega, t_on, sin_phase, cos_phase, cos_step, sin_step):
 
 
 @njit(cache=True, error_model="numpy")
+def base_displacement(i, dt, omega, t_on, amplitude, sin_phase, cos_phase, cos_step, sin_step):
+    """(u, sin, cos): the base's displacement along its axis at t_i = i dt,
+    u = amplitude sin(w (t_i - t_on)) from t_on, 0 before (eq 23), and the
+    phase carried to the next step (base_phase)."""
+    if i * dt < t_on:
+        return 0.0, sin_phase, cos_phase
+    sin_phase, cos_phase = base_phase(i, dt, omega, t_on, sin_phase, cos_phase, cos_step, sin_step)
+    return amplitude * sin_phase, sin_phase, cos_phase
+
+
+@njit(cache=True, error_model="numpy")
 def _record(out, j, t, f_d, f_x, f_y, x, y, xb, yb):
     out[j, 0] = t
     out[j, 1] = f_d
@@ -77,11 +88,8 @@ def coupled_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_the
             vx += dt * (f_d - f_x) / mass            # eq 12
             vy += dt * (-f_y) / mass                 # eqs 15-16
             x_new, y_new = x + dt * vx, y + dt * vy
-        u = 0.0
-        if t >= t_on:  # eq 23
-            sin_phase, cos_phase = base_phase(i, dt, omega, t_on, sin_phase, cos_phase,
-                                              cos_step, sin_step)
-            u = u0 * sin_phase
+        u, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, u0, sin_phase, cos_phase,
+                                                    cos_step, sin_step)  # eq 23
         xb_new, yb_new = u * cos_theta, u * sin_theta  # eqs 24-25
         s, ex, ey, f_x, f_y = node_step(
             s, ex, ey,

@@ -14,7 +14,7 @@ from numba import njit
 from ..friction_law import relax_length
 from ..friction_law.kernels import FASTMATH
 from ..friction_law.law import UPDATES
-from .coupled import _record, base_phase, check_finished, divergence_bound
+from .coupled import _record, base_displacement, check_finished, divergence_bound
 from .series import RecordPlan, TimeSeries, full_resolution_steps
 
 
@@ -33,11 +33,8 @@ def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, k_t, F_c, upd
         else:
             v += dt * (k_d * (v_d * (t - dt) - x) - f) / mass   # eq 12 with eq 17
             x_new = x + dt * v
-        x_b_new = 0.0
-        if t >= t_on:  # eq 23
-            sin_phase, cos_phase = base_phase(i, dt, omega, t_on, sin_phase, cos_phase,
-                                              cos_step, sin_step)
-            x_b_new = u0 * sin_phase
+        x_b_new, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, u0, sin_phase,
+                                                          cos_phase, cos_step, sin_step)  # eq 23
         s = relax_length(s, (x_new - x) - (x_b_new - x_b), s_c, update)  # eq 6
         f = k_t * s                                                     # eq 1
         x, x_b = x_new, x_b_new

@@ -31,7 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..analytic.coupled import base_phase, friction_law_args, vibration_axis
+from ..analytic.coupled import base_displacement, friction_law_args, vibration_axis
 from ..friction_law.kernels import FASTMATH
 from ..scene import SceneError
 from . import trouble
@@ -95,11 +95,8 @@ def explicit_steps(first, last, dt,
             u[k] += dt * v[k]
 
         # Base at t_{n+1} (eqs 23-25).
-        u_base = 0.0
-        if t >= t_on:
-            sin_phase, cos_phase = base_phase(i, dt, omega, t_on, sin_phase, cos_phase,
-                                              cos_step, sin_step)
-            u_base = amplitude * sin_phase
+        u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
+                                                         cos_phase, cos_step, sin_step)
         xb_new, yb_new = u_base * cos_theta, u_base * sin_theta
 
         # Contact nodes: normal force and the two-phase friction update (VFRIC analogue).

@@ -101,7 +101,7 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from ..analytic.coupled import base_phase, friction_law_args, slip_resolving_step, vibration_axis
+from ..analytic.coupled import base_displacement, friction_law_args, slip_resolving_step, vibration_axis
 from ..friction_law.kernels import FASTMATH
 from ..scene import SceneError
 from . import energy, trouble
@@ -654,11 +654,8 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
         solve(inv, rhs, y)
 
         # Base at t_{n+1} (eqs 23-25).
-        u_base = 0.0
-        if t >= t_on:
-            sin_phase, cos_phase = base_phase(i, dt, omega, t_on, sin_phase, cos_phase,
-                                              cos_step, sin_step)
-            u_base = amplitude * sin_phase
+        u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
+                                                         cos_phase, cos_step, sin_step)
         xb_new, yb_new = u_base * cos_theta, u_base * sin_theta
         dx_b, dy_b = xb_new - xb, yb_new - yb
         # The base over the friction sub-steps (eq 23): its exact sinusoid, ending at u_base.
