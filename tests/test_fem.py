@@ -78,7 +78,7 @@ def test_one_contact_node_under_the_lumped_trajectory_gives_the_lumped_forces(ov
         state = (length, ex, ey)
         total = contact_forces(old, new, np.zeros(1), lumped.x_b[i] - xb, lumped.y_b[i] - yb,
                                scene.contact.eta_y, penalty, share, 0.0, law, scene.time.dt,
-                               state, state, normal, force)
+                               state, normal, force)
         assert total[0] == F_N
         fe[i] = total[1:]
         old, xb, yb = new, lumped.x_b[i], lumped.y_b[i]

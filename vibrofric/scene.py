@@ -146,6 +146,11 @@ class Scene:
         return self.F_c if self.contact.F_s is None else self.contact.F_s
 
     @property
+    def mu_max(self) -> float:
+        """The largest friction coefficient the law reaches: max(mu, F_s / F_N)."""
+        return max(self.contact.mu, self.F_s / self.contact.F_N)
+
+    @property
     def drive_period(self) -> float:
         """Period of the body on the drive spring, 2 pi sqrt(m / k_d)."""
         return 2.0 * math.pi * math.sqrt(self.body.mass / self.drive.k_d)

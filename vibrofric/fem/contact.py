@@ -79,7 +79,7 @@ def node_contact(slip_x, slip_y, u_z, v_z, dx_b, free_y, penalty_share, w, beta,
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
                    penalty_share, area_share, beta, law, dt,
-                   state, new_state, normal, force):
+                   state, normal, force):
     """Advance every contact node by one step; outputs are written in place.
 
     disp_old, disp_new  (n, 3) the nodes' displacements at the start and end of the step
@@ -89,16 +89,13 @@ def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
     law                 the whole contact's law, friction_law_args(scene):
                         (k_t, mu, mu_s, v_s, h_t, h_v, law code, update code)
     state               (length, ex, ey), each (n,): every node's asperity (s, e) at
-                        the start of the step
-    new_state           the same at the end of the step (out; may be ``state``
-                        itself, or other arrays to try a step without committing it)
+                        the start of the step, replaced by those at its end
     normal              (n,) out: the normal force N_i at the end of the step
     force               (n, 2) out: the friction force F_i (acts on the body as -F_i)
 
     Returns the sums (sum N_i, sum F_x, sum F_y).
     """
     length, ex, ey = state
-    length_new, ex_new, ey_new = new_state
     free_y = eta_y * dy_b
     total_n = total_x = total_y = 0.0
     for i in range(length.shape[0]):
@@ -106,9 +103,9 @@ def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
             disp_new[i, 0] - disp_old[i, 0], disp_new[i, 1] - disp_old[i, 1],
             disp_new[i, 2], vel_z[i], dx_b, free_y, penalty_share[i], area_share[i], beta, law, dt,
             length[i], ex[i], ey[i])
-        length_new[i] = s
-        ex_new[i] = e_x
-        ey_new[i] = e_y
+        length[i] = s
+        ex[i] = e_x
+        ey[i] = e_y
         normal[i] = n_i
         force[i, 0] = f_x
         force[i, 1] = f_y

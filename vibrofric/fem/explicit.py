@@ -108,7 +108,7 @@ def explicit_steps(first, last, dt,
             vel_z[c] = v[d + 2]
         f_n, f_x, f_y = contact_forces(
             disp, disp_new, vel_z, xb_new - xb, yb_new - yb, eta_y,
-            penalty_share, area_share, beta, law, dt, state, state, normal, friction)
+            penalty_share, area_share, beta, law, dt, state, normal, friction)
         magnitude = 0.0
         for c in range(contacts):
             disp[c, 0] = disp_new[c, 0]
@@ -180,7 +180,7 @@ def integrate(model, scene, plan, frame=None, every=0) -> Integration:
             model.contact_nodes, model.penalty_share, model.area_share, law, c.eta_y,
             model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
             scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
-            c.F_N, max(c.mu, scene.F_s / c.F_N),
+            c.F_N, scene.mu_max,
             model.u0, u, v, work, force_sum, disp, disp_new, vel_z,
             length, ex, ey, normal, friction, scalars, recorder.arrays, steady.arrays)
         if code != trouble.OK:

@@ -430,7 +430,7 @@ class ImplicitRun:
         scheme = (dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
                   ITERATION_TOLERANCE * c.F_N / c.k_t, MAX_ITERATIONS)
         drive = (scene.drive.k_d, scene.drive.v_d)
-        limits = (c.F_N, max(c.mu, scene.F_s / c.F_N))
+        limits = (c.F_N, scene.mu_max)
 
         def state(step):
             return State(step, step * dt, model.u0 + system.expand(q), system.expand(v),

@@ -95,7 +95,7 @@ def check_tipping(scene) -> None:
     if scene.drive.attach != "front-face":
         return
     Lx, _, Lz = scene.body.size
-    mu_max = max(scene.contact.mu, scene.F_s / scene.contact.F_N)
+    mu_max = scene.mu_max
     if mu_max * Lz >= Lx:
         raise SceneError("drive.attach", f"a front-face drive at mid-height would tip the block "
                                          f"(friction coefficient {mu_max:g} >= L_x / L_z = "
