@@ -99,11 +99,17 @@ def test_level_counts_and_describe():
     assert "3x4x5 = 60 hexahedra, 120 nodes, 360 DOFs" in meshes.describe("3x4x5")
 
 
-@pytest.mark.parametrize("level", ["huge", "0x2x2", "4x4", ""])
+@pytest.mark.parametrize("level", ["huge", "4x4", ""])
 def test_unknown_level_raises_naming_it_and_the_known_ones(level, tmp_path):
     with pytest.raises(ValueError, match=f"'{level}'") as error:
         meshes.block_mesh_file(level=level, cache_dir=tmp_path)
     assert all(name in str(error.value) for name in meshes.LEVELS)
+    assert not list(tmp_path.iterdir())
+
+
+def test_zero_element_counts_are_refused_as_counts(tmp_path):
+    with pytest.raises(ValueError, match="'0x2x2': every element count .* must be >= 1"):
+        meshes.block_mesh_file(level="0x2x2", cache_dir=tmp_path)
     assert not list(tmp_path.iterdir())
 
 

@@ -15,6 +15,8 @@ from pathlib import Path
 
 import tomli_w
 
+from .meshes import level_counts
+
 
 class SceneError(ValueError):
     """A scene value that cannot be run; the message names the key."""
@@ -76,6 +78,9 @@ class Time:
                                            # 0: run to T (fem/steady.py)
     steady_cycles: int = 0                 # vibration cycles the settled average must hold;
                                            # 0: those of the averaging window
+    settle_tolerance: float = 0.005        # a result is "settled" when its drive-force mean moved
+                                           # by at most this fraction between the last two
+                                           # averaging windows (analytic/summary.py)
 
 
 @dataclass(frozen=True)
@@ -104,6 +109,7 @@ CHOICES = {
     "contact.update": ("paper", "exact"),
     "drive.attach": ("contact-plane", "front-face"),
     "drive.mode": ("spring", "velocity"),
+    "fem.integrator": ("explicit", "implicit", "reduced", "auto"),
 }
 
 
@@ -263,20 +269,46 @@ def parse_assignment(text: str):
     return key, parse_value(value.strip())
 
 
+def _read_scene_text(path: Path) -> str:
+    try:
+        return path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SceneError(str(path), "no such scene file") from None
+    except IsADirectoryError:
+        raise SceneError(str(path), "is a directory, not a scene file") from None
+    except UnicodeDecodeError:
+        raise SceneError(str(path), "is not a text file (not UTF-8): a scene is TOML") from None
+    except OSError as err:
+        raise SceneError(str(path), f"cannot be read: {err.strerror}") from None
+
+
 def load(path, overrides=()) -> Scene:
     """Read a scene file and apply ``section.key=value`` overrides."""
     path = Path(path)
     try:
-        raw = tomllib.loads(path.read_text())
-    except FileNotFoundError:
-        raise SceneError(str(path), "no such scene file") from None
+        raw = tomllib.loads(_read_scene_text(path))
     except tomllib.TOMLDecodeError as err:
         raise SceneError(str(path), f"not valid TOML: {err}") from None
+    for section, values in raw.items():
+        if not isinstance(values, dict):
+            raise SceneError(section, f"expected a table [{section}] of keys, got {values!r}")
     for text in overrides:
         key, value = parse_assignment(text)
         section, name = key.split(".")
         raw.setdefault(section, {})[name] = value
     return from_dict(raw, path.stem)
+
+
+def check_key(key: str) -> None:
+    """Refuse (SceneError) a ``section.key`` that names no scene key."""
+    _split_key(key)
+
+
+def coerce(key: str, value):
+    """``value`` as the scene would hold it for ``key`` (an integer for a
+    float key becomes a float: 2 and 2.0 are one value); raises SceneError."""
+    section, name = _split_key(key)
+    return _check_type(key, value, typing.get_type_hints(SECTIONS[section])[name])
 
 
 def to_dict(scene: Scene) -> dict:
@@ -336,6 +368,16 @@ def validate(scene: Scene) -> None:
         raise SceneError("time.average_cycles", f"must be >= 0, got {scene.time.average_cycles}")
     if scene.time.dt > scene.time.T:
         raise SceneError("time.dt", f"{scene.time.dt} is longer than time.T = {scene.time.T}")
+    if scene.time.series_dt > scene.time.T:
+        raise SceneError("time.series_dt", f"{scene.time.series_dt} s is longer than time.T = "
+                                           f"{scene.time.T} s: the time series would hold no row")
+    if not 0.0 < scene.time.settle_tolerance < 1.0:
+        raise SceneError("time.settle_tolerance",
+                         f"must lie in (0, 1), got {scene.time.settle_tolerance}")
+    try:
+        level_counts(scene.fem.mesh)
+    except ValueError as err:
+        raise SceneError("fem.mesh", str(err)) from None
     if scene.vibrated:
         vib, time = scene.vibration, scene.time
         if time.T <= vib.t_on:

@@ -108,13 +108,8 @@ def build_model(scene, comm) -> FEModel:
     body = scene.body
     check_tipping(scene)
     rho = density(scene)
-    try:
-        disc = assemble_block(comm, body.size, scene.fem.mesh, body.E, body.nu, rho,
-                              faces=(meshes.CONTACT, meshes.TOP, meshes.FRONT))
-    except ValueError as error:
-        if "mesh level" in str(error):
-            raise SceneError("fem.mesh", str(error)) from None
-        raise
+    disc = assemble_block(comm, body.size, scene.fem.mesh, body.E, body.nu, rho,
+                          faces=(meshes.CONTACT, meshes.TOP, meshes.FRONT))
 
     block_mass = rho * disc.volume
     top = disc.face_area[meshes.TOP]

@@ -61,8 +61,11 @@ def level_counts(level: str) -> tuple:
     if level in LEVELS:
         return LEVELS[level]
     match = re.fullmatch(r"(\d+)x(\d+)x(\d+)", str(level))
-    if match and all(int(n) > 0 for n in match.groups()):
-        return tuple(int(n) for n in match.groups())
+    if match:
+        counts = tuple(int(n) for n in match.groups())
+        if min(counts) < 1:
+            raise ValueError(f"mesh level {level!r}: every element count (NXxNYxNZ) must be >= 1")
+        return counts
     raise ValueError(f"unknown mesh level {level!r}: use one of "
                      f"{', '.join(LEVELS)}, or element counts such as '4x4x6'")
 

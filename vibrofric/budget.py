@@ -1,0 +1,119 @@
+"""What a run will need, estimated from its scene before any work: memory, disk, time.
+
+A scene whose runs cannot fit on this machine is refused (SceneError naming
+the key that makes it so) before anything is built or written, with the
+estimate in the message. The estimates are rough upper bounds:
+
+    memory  the kept time series (RecordPlan rows x columns x 8 bytes, held
+            about three times over: the loop's buffers, the table, the CSV
+            writer), and for FE the block's model, FE_BYTES_PER_DOF a degree
+            of freedom (K in three sparse formats, the mass, the preload and
+            the reduction's coupling on the coarse to fine meshes)
+    disk    the CSV time series (CSV_BYTES_PER_VALUE a value) and for FE the
+            ParaView frames (VTK_BYTES_PER_NODE a node and frame)
+    time    STEP_SECONDS a step, and FE_STEP_SECONDS_PER_DOF a degree of
+            freedom and step: the explicit loop of the coarse mesh
+"""
+
+import os
+import shutil
+from pathlib import Path
+
+from .analytic.series import COLUMNS, RecordPlan, full_resolution_steps
+from .meshes import level_counts
+from .scene import SceneError
+
+FE_BYTES_PER_DOF = 4_000
+CSV_BYTES_PER_VALUE = 25           # a double's repr and its comma
+VTK_BYTES_PER_NODE = 600           # 7 fields, 22 values a node, base64 + headers
+STEP_SECONDS = 1e-7                # the analytic stepper: 30-70 ns a step
+FE_STEP_SECONDS_PER_DOF = 6e-8     # explicit, coarse mesh: ~40 us for 720 DOFs
+LONGEST_RUN_S = 30 * 86400         # refused beyond: a typo in time.T rather than a study
+
+
+def _bytes(n: float) -> str:
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if n < 1024 or unit == "PiB":
+            return f"{n:.3g} {unit}"
+        n /= 1024
+
+
+def _duration(seconds: float) -> str:
+    for unit, size in (("years", 365 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
+        if seconds >= size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.3g} s"
+
+
+def available_memory() -> int:
+    """Bytes of memory this machine can give a new process (MemAvailable)."""
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+
+
+def free_disk(directory: Path) -> int:
+    """Bytes free on the file system that holds ``directory`` (or its nearest existing parent)."""
+    path = Path(directory).absolute()
+    while not path.exists():
+        path = path.parent
+    return shutil.disk_usage(path).free
+
+
+def fe_dofs(scene) -> int:
+    nx, ny, nz = level_counts(scene.fem.mesh)
+    return 3 * (nx + 1) * (ny + 1) * (nz + 1)
+
+
+def estimate(scene, fe: bool) -> dict:
+    """Rough needs of one run of ``scene``: steps, rows, memory and disk bytes, seconds."""
+    plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
+    columns = len(COLUMNS) + (1 if fe else 0)
+    series_files = 2 if fe else 1  # an FE run writes the analytic series beside its own
+    memory = 3 * plan.rows * columns * 8
+    disk = series_files * plan.rows * columns * CSV_BYTES_PER_VALUE
+    seconds = scene.steps * STEP_SECONDS
+    dofs = 0
+    if fe:
+        dofs = fe_dofs(scene)
+        memory += dofs * FE_BYTES_PER_DOF
+        seconds += scene.steps * dofs * FE_STEP_SECONDS_PER_DOF
+        if scene.fem.output_every > 0:
+            frames = scene.steps // scene.fem.output_every + 2
+            disk += frames * (dofs // 3) * VTK_BYTES_PER_NODE
+    return {"steps": scene.steps, "rows": plan.rows, "dofs": dofs,
+            "memory": memory, "disk": disk, "seconds": seconds}
+
+
+def check(scenes, fe: bool, out: Path) -> None:
+    """Refuse, before any work, runs of ``scenes`` (one, or a sweep's points,
+    run side by side on at most two processes) that cannot fit in this
+    machine's memory, in the free disk under ``out``, or in LONGEST_RUN_S."""
+    needs = [(scene, estimate(scene, fe)) for scene in scenes]
+    scene, worst = max(needs, key=lambda pair: pair[1]["memory"])
+    memory = available_memory()
+    if worst["memory"] > memory:
+        if fe and worst["dofs"] * FE_BYTES_PER_DOF > worst["memory"] / 2:
+            raise SceneError("fem.mesh", f"{scene.fem.mesh!r} has {worst['dofs']:,} degrees of "
+                                         f"freedom: the FE model needs ~{_bytes(worst['memory'])} "
+                                         f"of memory, and {_bytes(memory)} is available")
+        raise SceneError("time.T", f"{scene.time.T:g} s at time.dt = {scene.time.dt:g} s is "
+                                   f"{worst['steps']:.3g} steps, whose time series (a row every "
+                                   f"time.series_dt = {scene.time.series_dt:g} s: {worst['rows']:.3g} "
+                                   f"rows) needs ~{_bytes(worst['memory'])} of memory, and "
+                                   f"{_bytes(memory)} is available: shorten time.T or raise "
+                                   "time.series_dt")
+    disk, free = sum(need["disk"] for _, need in needs), free_disk(out)
+    if disk > free:
+        raise SceneError("time.T", f"the results would take ~{_bytes(disk)} of disk and "
+                                   f"{_bytes(free)} is free under {out}: shorten time.T, raise "
+                                   "time.series_dt or fem.output_every")
+    scene, slowest = max(needs, key=lambda pair: pair[1]["seconds"])
+    if slowest["seconds"] > LONGEST_RUN_S:
+        raise SceneError("time.T", f"{scene.time.T:g} s at time.dt = {scene.time.dt:g} s is "
+                                   f"{slowest['steps']:.3g} steps: ~{_duration(slowest['seconds'])} "
+                                   f"of computing (refused beyond {_duration(LONGEST_RUN_S)})")
