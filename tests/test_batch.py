@@ -79,11 +79,11 @@ def serial(tmp_path_factory):
 def test_serial_sweep_writes_every_point_and_the_study(serial):
     rows = results(serial)
     assert [(r["vibration.k_v"], r["vibration.theta_deg"]) for r in rows] == [
-        ("2", "0"), ("2", "90"), ("6", "0"), ("6", "90")]
+        ("2.0", "0.0"), ("2.0", "90.0"), ("6.0", "0.0"), ("6.0", "90.0")]
     assert list(rows[0])[:3] == ["vibration.k_v", "vibration.theta_deg", "fe.F_dv_over_F_d0"]
     assert {"analytic.F_dv_over_F_d0", "rel_error", "error"} <= set(rows[0])
     assert all(r["error"] == "" and 0 < float(r["fe.F_dv_over_F_d0"]) < 1 for r in rows)
-    point = serial / "points" / "vibration.k_v=6,vibration.theta_deg=0"
+    point = serial / "points" / "vibration.k_v=6.0,vibration.theta_deg=0.0"
     assert {"scene.toml", "summary.json", "timeseries.csv", "analytic_timeseries.csv"} <= {
         p.name for p in point.iterdir()}
     summary = json.loads((point / "summary.json").read_text())
@@ -180,12 +180,12 @@ def test_an_invalid_point_fails_alone_and_is_reported(tmp_path):
     done = vibrofric(["sweep", SCENE, *TINY_FE, "--grid", "vibration.k_v=6,-1", "--fe", "--out", str(out)])
     assert done.returncode == EXIT_POINTS_FAILED, done.stderr
     assert "1 failed" in done.stderr
-    assert "failed vibration.k_v=-1: invalid scene: vibration.k_v" in done.stderr
+    assert "failed vibration.k_v=-1.0: invalid scene: vibration.k_v" in done.stderr
     good, bad = results(out)
     assert good["error"] == "" and 0 < float(good["fe.F_dv_over_F_d0"]) < 1
-    assert bad["vibration.k_v"] == "-1" and bad["fe.F_dv_over_F_d0"] == ""
+    assert bad["vibration.k_v"] == "-1.0" and bad["fe.F_dv_over_F_d0"] == ""
     assert bad["error"].startswith("invalid scene: vibration.k_v: must be >= 0")
-    assert "error" in json.loads((out / "points" / "vibration.k_v=-1" / "summary.json").read_text())
+    assert "error" in json.loads((out / "points" / "vibration.k_v=-1.0" / "summary.json").read_text())
 
 
 def test_a_point_that_fails_in_its_run_is_recorded_and_retried_alone(tmp_path, capsys):
@@ -211,13 +211,13 @@ def test_partial_point_directories_are_ignored_and_cleared(tmp_path):
     assert main(analytic_sweep(out)) == 0
     # what a process killed mid-write (SIGKILL, node loss) leaves: a staging
     # directory that was never renamed into place, and no directory for its point
-    point = out / "points" / "vibration.k_v=6"
-    partial = out / "points" / ".vibration.k_v=6.part-123-abcdef12"
+    point = out / "points" / "vibration.k_v=6.0"
+    partial = out / "points" / ".vibration.k_v=6.0.part-123-abcdef12"
     point.rename(partial)
     before = summary_times(out)
     assert main(analytic_sweep(out)) == 0
     assert not partial.exists() and (point / "summary.json").exists()
-    assert summary_times(out)["vibration.k_v=2"] == before["vibration.k_v=2"]
+    assert summary_times(out)["vibration.k_v=2.0"] == before["vibration.k_v=2.0"]
     assert len(results(out)) == 2
 
 

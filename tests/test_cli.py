@@ -65,13 +65,13 @@ def test_sweep_with_a_bad_point_runs_the_others_and_reports_it(tmp_path, capsys)
                  "--json"])
     assert code == EXIT_POINTS_FAILED
     captured = capsys.readouterr()
-    assert "failed vibration.k_v=-1: invalid scene: vibration.k_v" in captured.err
+    assert "failed vibration.k_v=-1.0: invalid scene: vibration.k_v" in captured.err
     good, bad = json.loads(captured.out)
     assert 0 < good["F_dv_over_F_d0"] < 1 and "error" not in good
     assert bad == {"vibration.k_v": -1, "error": bad["error"]} and "vibration.k_v" in bad["error"]
     with open(out / "results.csv") as f:
         rows = list(csv.DictReader(f))
-    assert [(r["vibration.k_v"], r["error"] == "") for r in rows] == [("2", True), ("-1", False)]
+    assert [(r["vibration.k_v"], r["error"] == "") for r in rows] == [("2.0", True), ("-1.0", False)]
 
 
 def test_sweep_over_a_bad_base_scene_is_refused_before_any_work(tmp_path, capsys):

@@ -9,7 +9,7 @@ import re
 
 import numpy as np
 
-from .scene import SceneError, parse_value
+from .scene import SceneError, check_key, coerce, parse_value
 
 
 def parse_grid(text: str):
@@ -28,6 +28,33 @@ def parse_grid(text: str):
             raise SceneError(key, f"grid range {values!r} needs a count >= 1")
         return key, [float(v) for v in np.linspace(start, stop, count)]
     return key, [parse_value(v.strip()) for v in values.split(",")]
+
+
+def canonical_grid(grid):
+    """The grid with each value as the scene holds it (scene.coerce: ``2`` and
+    ``2.0`` of a float key are one value, and name one point directory); a
+    key given in two ``--grid`` options, or a value given twice, is refused.
+
+    A value the scene cannot take is left as given: that point fails alone.
+    """
+    seen = set()
+    canonical = []
+    for key, values in grid:
+        if key in seen:
+            raise SceneError(key, "given in two --grid options; give all its values in one")
+        seen.add(key)
+        check_key(key)
+        coerced = []
+        for value in values:
+            try:
+                value = coerce(key, value)
+            except SceneError:
+                pass
+            if value in coerced:
+                raise SceneError(key, f"the grid gives the value {value!r} twice")
+            coerced.append(value)
+        canonical.append((key, coerced))
+    return canonical
 
 
 def grid_points(grid):

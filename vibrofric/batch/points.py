@@ -24,7 +24,7 @@ from pathlib import Path
 from .. import output
 from .. import scene as scene_module
 from ..analytic.series import NumericalError
-from ..grid import grid_points, unique_names
+from ..grid import canonical_grid, grid_points, unique_names
 from ..parallel import stop_if_interrupted
 from ..scene import Scene, SceneError
 
@@ -57,13 +57,12 @@ class Point:
 def plan(scene, grid, directory: Path) -> list:
     """The grid's points in grid order, each with its scene or the reason it has none.
 
-    A grid that names an unknown key or a point twice is the command line's
-    mistake, refused (SceneError) before any work; a value that makes no valid
-    scene is not: that point fails, the others run.
+    A grid that names an unknown key, a key twice or a value twice (2 and
+    2.0 are one value: grid.canonical_grid) is the command line's mistake,
+    refused (SceneError) before any work; a value that makes no valid scene is
+    not: that point fails, the others run.
     """
-    for key, _ in grid:
-        scene.get(key)
-    values = grid_points(grid)
+    values = grid_points(canonical_grid(grid))
     points = []
     for name, point_values in zip(unique_names(values), values):
         try:
