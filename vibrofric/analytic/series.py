@@ -1,7 +1,8 @@
 """The time series every run writes, and which steps it keeps.
 
 A 1 s run at dt = 1e-6 has 10^6 steps; a run keeps every step of its last
-vibration cycles (for the cycle average, eqs 40-41, and the Fig 8 / 11 plots)
+vibration cycles (for the cycle average, eqs 40-41, whether it has settled,
+and the Fig 8 / 11 plots)
 and, before them, one step every ``time.series_dt``.
 """
 
@@ -82,6 +83,8 @@ def averaging_steps(scene) -> int:
 
 
 def full_resolution_steps(scene) -> int:
-    """Steps kept at every step at the end of a run: the averaging window and the plotted cycles."""
+    """Steps kept at every step at the end of a run: the last two averaging
+    windows (F_dv and whether it has settled, summary.window_drift) and the
+    plotted cycles."""
     plot = int(round(PLOT_CYCLES / (scene.vibration.f * scene.time.dt)))
-    return min(scene.steps, max(averaging_steps(scene), plot))
+    return min(scene.steps, max(2 * averaging_steps(scene), plot))

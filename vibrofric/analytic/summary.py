@@ -31,15 +31,37 @@ def steady_drive_force(scene) -> float:
     return law.steady_sliding_force(c.F_N, scene.drive.v_d)
 
 
+def window_drift(series: TimeSeries, steps: int, dt: float):
+    """How far the drive-force mean moved between the last two averaging windows:
+    |F_k - F_{k-1}| / |F_k|, F_k the mean over the last ``steps`` steps (eq 40)
+    and F_{k-1} over the ``steps`` before them.
+
+    None where the series does not hold two whole windows at every step (a run
+    shorter than two windows): then nothing says the average has settled.
+    """
+    if series.t.size < 2 * steps or series.t[-1] - series.t[-2 * steps] > (2 * steps - 0.5) * dt:
+        return None
+    last = cycle_average(series.F_d, steps)
+    before = float(np.mean(series.F_d[-2 * steps:-steps]))
+    if last == before:
+        return 0.0
+    return abs(last - before) / abs(last) if last != 0.0 else None
+
+
 def summarize(series: TimeSeries, scene, wall_time_s: float) -> dict:
-    """The JSON keys of spec/interface.md for one run.
+    """The JSON keys of spec/interface.md for one run, and whether it settled.
 
     F_dv/F_d0 is None when there is no friction to reduce (F_d0 = 0, mu = 0).
+    ``settled`` is True when window_drift() is at most time.settle_tolerance:
+    the averaged drive force no longer depends on when the run stopped.
     """
-    F_dv = cycle_average(series.F_d, averaging_steps(scene))
+    window = averaging_steps(scene)
+    F_dv = cycle_average(series.F_d, window)
     if not math.isfinite(F_dv):
         raise NumericalError(f"the cycle-averaged drive force is {F_dv}")
     F_d0 = steady_drive_force(scene)
+    drift = window_drift(series, window, scene.time.dt)
+    tolerance = scene.time.settle_tolerance
     return {
         "F_dv_over_F_d0": F_dv / F_d0 if F_d0 > 0.0 else None,
         "F_dv": F_dv,
@@ -47,4 +69,20 @@ def summarize(series: TimeSeries, scene, wall_time_s: float) -> dict:
         "breakaway_time_s": breakaway_time(series, scene.F_c),
         "steps": scene.steps,
         "wall_time_s": wall_time_s,
+        "window_drift": drift,
+        "settled": drift is not None and drift <= tolerance,
+        "settle_tolerance": tolerance,
     }
+
+
+def unsettled_warning(summary: dict, label: str = "") -> str | None:
+    """One line for stderr if the summary's average has not settled, else None."""
+    if summary["settled"]:
+        return None
+    what = f"{label} " if label else ""
+    drift = summary["window_drift"]
+    moved = ("the run holds fewer than two averaging windows after the vibration starts"
+             if drift is None else
+             f"its mean moved by {drift:.2%} between the last two averaging windows")
+    return (f"warning: the {what}cycle-averaged drive force has not settled: {moved} "
+            f"(time.settle_tolerance {summary['settle_tolerance']:g}); lengthen time.T")
