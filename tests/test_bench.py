@@ -78,5 +78,5 @@ def test_bench_command_writes_its_report(small, tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(bench, "bench", lambda plan, progress: small)
     out = tmp_path / "bench"
     assert main(["bench", "--quick", "--out", str(out)]) == 0
-    assert {p.name for p in out.iterdir()} == {"bench.md", "bench.png"}
+    assert {p.name for p in out.iterdir()} == {".vibrofric", "bench.md", "bench.png"}
     assert (out / "bench.md").read_text() in capsys.readouterr().out

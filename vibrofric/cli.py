@@ -2,12 +2,15 @@
 
 import argparse
 import json
+import logging
 import sys
 from pathlib import Path
 
 from . import output, plots
 from . import scene as scene_module
 from .analytic.series import NumericalError
+from .output import OutputError
+from .parallel import interruptible
 from .scene import SceneError
 
 EXIT_BAD_INPUT = 2
@@ -17,40 +20,68 @@ EXIT_INTERRUPTED = 130   # Ctrl-C or SIGTERM, as a shell reports SIGINT
 FAILURES_LISTED = 10     # failed points named on stderr; results.csv has them all
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse with its complaints on one line, exit 2."""
+
+    def error(self, message):
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: {message} (see {self.prog} --help)\n")
+
+
+def _workers(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--workers {text!r}: expected a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"--workers {value}: at least 1 process is needed")
+    return value
+
+
+def _out_argument(parser, what: str):
+    parser.add_argument("--out", type=Path, help=f"{what} (default results/<scene>-<time>/); an "
+                                                 "existing directory is written only if empty or, "
+                                                 "with --force, if vibrofric wrote it")
+    parser.add_argument("--force", action="store_true",
+                        help="replace an earlier results directory of vibrofric at --out")
+
+
 def _scene_arguments(parser):
     parser.add_argument("scene", type=Path, help="scene file (TOML)")
     parser.add_argument("--set", dest="overrides", action="append", default=[],
                         metavar="SECTION.KEY=VALUE", help="override a scene key (repeatable)")
-    parser.add_argument("--out", type=Path, help="results directory (default results/<scene>-<time>/)")
+    _out_argument(parser, "results directory")
     parser.add_argument("--json", action="store_true", help="print one JSON document to stdout")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="vibrofric",
         description="Drive force and friction of a body sliding over an in-plane vibrating base.")
-    commands = parser.add_subparsers(dest="command", required=True)
+    commands = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
 
     analytic = commands.add_parser("analytic", help="the lumped analytic stepper")
     _scene_arguments(analytic)
     analytic.add_argument("--stepper", choices=("coupled", "longitudinal"), default="coupled",
-                          help="coupled two-phase model (default) or the 1D longitudinal model [23]")
+                          help="coupled two-phase model (default) or the 1D longitudinal model [23] "
+                               "(Dahl, vibration along X: theta 0 or 180 deg)")
 
     run = commands.add_parser("run", help="the FE simulation, and the analytic stepper on the same scene")
     _scene_arguments(run)
 
-    sweep = commands.add_parser("sweep", help="a batch over a grid of scene values")
+    sweep = commands.add_parser(
+        "sweep", help="a batch over a grid of scene values",
+        description="A batch over a grid of scene values. Rerun into the same --out to resume: "
+                    "finished points are kept; --force starts the sweep afresh.")
     _scene_arguments(sweep)
     sweep.add_argument("--grid", action="append", required=True, metavar="KEY=VALUES",
                        help="a grid axis: comma list or start:stop:count (repeatable)")
     sweep.add_argument("--fe", action="store_true",
                        help="run the FE model (and the analytic stepper) at every point")
-    sweep.add_argument("--workers", type=int,
+    sweep.add_argument("--workers", type=_workers,
                        help="processes, one run each (default: both cores; under mpirun: the ranks)")
 
     bench = commands.add_parser("bench", help="speed against error of every method, side by side")
-    bench.add_argument("--out", type=Path, help="directory for bench.md and bench.png "
-                                                "(default results/bench-<time>/)")
+    _out_argument(bench, "directory for bench.md and bench.png")
     bench.add_argument("--quick", action="store_true", help="the reduced set, under 2 minutes")
     return parser
 
@@ -64,32 +95,92 @@ def _emit(args, document, text: str) -> None:
     print(json.dumps(document, indent=2) if args.json else text)
 
 
+def _warn_unsettled(summary: dict, label: str = "") -> None:
+    from .analytic.summary import unsettled_warning
+
+    warning = unsettled_warning(summary, label)
+    if warning:
+        print(f"vibrofric: {warning}", file=sys.stderr)
+
+
+def _target(args, command: str):
+    """(directory, claimed): --out once checked (output.check_target), or a
+    fresh default name claimed for this run."""
+    if args.out is None:
+        return None, True
+    output.check_target(args.out, command, args.force)
+    return args.out, False
+
+
+def _check_stepper(scene, stepper: str) -> None:
+    """The 1D longitudinal model [23] is Dahl with the base moving along X only."""
+    if stepper != "longitudinal":
+        return
+    if scene.contact.law != "dahl":
+        raise SceneError("contact.law", "the 1D longitudinal model [23] is Dahl only; "
+                                        "use --stepper coupled")
+    if scene.vibrated and scene.vibration.theta_deg % 180.0 != 0.0:
+        raise SceneError("vibration.theta_deg",
+                         f"{scene.vibration.theta_deg:g} deg: the 1D longitudinal model [23] "
+                         "vibrates the base along X only (0 or 180 deg); use --stepper coupled")
+
+
 def cmd_analytic(args) -> None:
+    from . import budget
     from .analytic.run import run
 
     scene = scene_module.load(args.scene, args.overrides)
+    _check_stepper(scene, args.stepper)
+    target, claim = _target(args, "analytic")
+    budget.check([scene], fe=False, out=target or Path("results"))
     series, summary = run(scene, args.stepper)
-    target = args.out or output.default_dir(scene.name)
-    with output.staged(target) as stage:
+    target = target or output.default_dir(scene.name)
+    with output.staged(target, "analytic", claimed=claim) as stage:
         output.write_scene(stage, scene)
         output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
         output.write_timeseries(stage, series)
         runs = {args.stepper: series}
         plots.drive_force_history(runs, scene, stage / "drive_force.png")
         plots.friction_last_cycles(runs, scene, stage / "friction_last_cycles.png")
+    _warn_unsettled(summary)
     _emit(args, {**summary, "out": str(target)},
           f"F_dv/F_d0 = {_number(summary['F_dv_over_F_d0'])} (F_dv = {summary['F_dv']:.4f} N, "
           f"F_d0 = {summary['F_d0']:.4f} N) in {summary['wall_time_s']:.3f} s; results in {target}")
 
 
+def _progress_bar(args, what: str, total: float):
+    """A tqdm bar over simulated seconds on stderr, as a progress(t_done, t_total)
+    callable and the bar; quiet with --json when stderr is not a terminal."""
+    from tqdm import tqdm
+
+    quiet = args.json and not sys.stderr.isatty()
+    bar = tqdm(desc=what, total=total, unit="s", disable=quiet, file=sys.stderr,
+               bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} s simulated "
+                          "[{elapsed}<{remaining}]")
+
+    def progress(done: float, total: float) -> None:
+        bar.total = total
+        bar.n = done
+        bar.refresh()
+
+    return progress, bar
+
+
 def cmd_run(args) -> None:
+    from . import budget
     from .picture import block_picture
     from .runs import fe_beside_analytic
 
     scene = scene_module.load(args.scene, args.overrides)
-    target = args.out or output.default_dir(scene.name)
-    with output.staged(target) as stage:
-        done = fe_beside_analytic(scene, stage)
+    target, claim = _target(args, "run")
+    budget.check([scene], fe=True, out=target or Path("results"))
+    target = target or output.default_dir(scene.name)
+    progress, bar = _progress_bar(args, "FE", scene.time.T)
+    with output.staged(target, "run", claimed=claim) as stage:
+        try:
+            done = fe_beside_analytic(scene, stage, progress=progress)
+        finally:
+            bar.close()
         document = {**done.document, "out": str(target)}
         output.write_summary(stage, {**document, "fe_info": done.fe_info})
         runs = {"FE": done.fe.series, "analytic": done.analytic_series}
@@ -99,6 +190,8 @@ def cmd_run(args) -> None:
         if done.fe_info["frames"]:
             block_picture(stage / "paraview" / "block.pvd", stage / "block.png")
     fe, analytic = document["fe"], document["analytic"]
+    _warn_unsettled(fe, "FE")
+    _warn_unsettled(analytic, "analytic")
     settled = (f", settled at {fe['stop_time_s']:g} s, {fe['saving']:.0%} of the steps saved"
                if fe["stopped_early"] else "")
     _emit(args, document,
@@ -113,7 +206,11 @@ def cmd_sweep(args) -> int:
 
     scene = scene_module.load(args.scene, args.overrides)
     grid = [parse_grid(text) for text in args.grid]
-    outcome = run_sweep(scene, grid, "fe" if args.fe else "analytic", args.out, args.workers)
+    fresh = False
+    if args.out is not None:
+        fresh = output.check_target(args.out, "sweep", args.force) == "replace"
+    outcome = run_sweep(scene, grid, "fe" if args.fe else "analytic", args.out, args.workers,
+                        fresh=fresh)
     if outcome.leader:  # under mpirun, rank 0 speaks for all
         if args.json:
             print(json.dumps(outcome.records, indent=2))
@@ -126,11 +223,12 @@ def cmd_sweep(args) -> int:
 def cmd_bench(args) -> None:
     from . import bench
 
+    target, claim = _target(args, "bench")
     plan = bench.QUICK if args.quick else bench.FULL
     result = bench.bench(plan, progress=lambda text: print(text, file=sys.stderr))
     table = bench.markdown(result)
-    target = args.out or output.default_dir("bench")
-    with output.staged(target) as stage:
+    target = target or output.default_dir("bench")
+    with output.staged(target, "bench", claimed=claim) as stage:
         (stage / "bench.md").write_text(table)
         bench.plot(result, stage / "bench.png")
     print(table)
@@ -139,16 +237,38 @@ def cmd_bench(args) -> None:
 COMMANDS = {"analytic": cmd_analytic, "bench": cmd_bench, "run": cmd_run, "sweep": cmd_sweep}
 
 
+def _interrupted(command: str, signal_name: str) -> str:
+    how = "by SIGTERM" if signal_name == "SIGTERM" else "(Ctrl-C)"
+    if command == "sweep":
+        return (f"vibrofric: sweep interrupted {how}; the finished points are kept: rerun the "
+                "same command to resume")
+    return f"vibrofric: {command} interrupted {how}; nothing was written"
+
+
+def _quiet_libraries() -> None:
+    """Show warnings and errors of the libraries, not their INFO chatter (the C
+    compiler's command lines when FFCx compiles a form on a first run)."""
+    root = logging.getLogger()
+    if not root.handlers:
+        root.addHandler(logging.StreamHandler())
+    for handler in root.handlers:
+        handler.setLevel(logging.WARNING)
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    _quiet_libraries()
     try:
-        return COMMANDS[args.command](args) or 0
-    except KeyboardInterrupt:
-        print("vibrofric: interrupted; what had finished is kept: rerun the same command "
-              "to resume", file=sys.stderr)
+        with interruptible():
+            return COMMANDS[args.command](args) or 0
+    except KeyboardInterrupt as interrupt:
+        print(_interrupted(args.command, str(interrupt)), file=sys.stderr)
         return EXIT_INTERRUPTED
     except SceneError as err:
         print(f"vibrofric: invalid scene: {err}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except OutputError as err:
+        print(f"vibrofric: {err}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except NumericalError as err:
         print(f"vibrofric: numerical trouble: {err}", file=sys.stderr)

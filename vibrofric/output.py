@@ -1,9 +1,20 @@
-"""Results directories and files: written whole or not at all.
+"""Results directories and files: written whole or not at all, and never over a user's files.
 
 Everything a command writes goes first into a hidden partial directory or file
 beside the target (named ``.<target>.part-*``), which is renamed into place
 only once complete; a run that fails leaves nothing behind, and a process
 killed mid-write leaves only partials, which remove_partials() clears.
+
+Every results directory holds the marker file MARKER, naming the command
+that wrote it. ``check_target`` decides, before any work, what a command may
+do with its ``--out``:
+
+    missing, or an empty directory       write it
+    a results directory of this tool     replace it only with --force; a sweep
+                                         resumes its own (same command, no --force)
+    anything else (a file, a directory   refused: OutputError, nothing touched
+    of the user's, ``.``, an unwritable
+    place)
 """
 
 import contextlib
@@ -17,10 +28,86 @@ from pathlib import Path
 
 from . import scene as scene_module
 
+MARKER = ".vibrofric"  # in every results directory: {"command": ...}
+
+
+class OutputError(ValueError):
+    """An ``--out`` the command may not write; the message says why."""
+
 
 def default_dir(scene_name: str) -> Path:
+    """``results/<scene>-<time>``, claimed at once (an empty directory made
+    with mkdir, which only one process can do): two runs started in the same
+    second get ``...-<time>`` and ``...-<time>-2``. staged() replaces the empty
+    directory with the results, or removes it if the run fails."""
     stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
-    return Path("results") / f"{scene_name}-{stamp}"
+    base = Path("results") / f"{scene_name}-{stamp}"
+    base.parent.mkdir(parents=True, exist_ok=True)
+    for n in range(1, 10_000):
+        candidate = base if n == 1 else base.with_name(f"{base.name}-{n}")
+        try:
+            candidate.mkdir()
+            return candidate
+        except FileExistsError:
+            continue
+    raise OutputError(f"{base}: no free results directory name")
+
+
+def read_marker(directory: Path) -> dict | None:
+    """The marker of a results directory of this tool, or None."""
+    try:
+        marker = json.loads((Path(directory) / MARKER).read_text())
+    except (OSError, ValueError):
+        return None
+    return marker if isinstance(marker, dict) and "command" in marker else None
+
+
+def write_marker(directory: Path, command: str) -> None:
+    (Path(directory) / MARKER).write_text(json.dumps({"command": command}) + "\n")
+
+
+def _existing_ancestor(path: Path) -> Path:
+    path = path.absolute()
+    while not path.exists():
+        path = path.parent
+    return path
+
+
+def check_target(target: Path, command: str, force: bool = False) -> str:
+    """What ``command`` may do with ``target``: "new", "replace" or "resume" (a
+    sweep's own directory); raise OutputError if it may do nothing (see the module)."""
+    target = Path(target)
+    here = Path.cwd().resolve()
+    resolved = target.resolve()
+    if target.name in ("", ".", "..") or resolved == here or resolved in here.parents:
+        raise OutputError(f"--out {target}: the current directory or one above it; "
+                          "name a new directory for the results")
+    if target.exists() and not target.is_dir():
+        raise OutputError(f"--out {target}: is a file, not a results directory; nothing was touched")
+    if target.is_dir():
+        marker = read_marker(target)
+        if marker is None and any(target.iterdir()):
+            raise OutputError(f"--out {target}: holds files vibrofric did not write (no {MARKER} "
+                              "marker); nothing was touched: name a new directory")
+        if marker is not None and not force:
+            if command == "sweep" and marker["command"] == "sweep":
+                _check_writable(target, target)
+                return "resume"
+            raise OutputError(f"--out {target}: holds earlier results of vibrofric "
+                              f"{marker['command']}; add --force to replace them")
+    _check_writable(_existing_ancestor(target.parent), target)
+    return "replace" if target.is_dir() and any(target.iterdir()) else "new"
+
+
+def _check_writable(directory: Path, target: Path) -> None:
+    """Make and remove an empty directory in ``directory``: the one sure test
+    (permissions, a read-only file system, root's rights) before any work."""
+    probe = _partial(directory / "probe", "probe-")
+    try:
+        probe.mkdir()
+        probe.rmdir()
+    except OSError as err:
+        raise OutputError(f"--out {target}: cannot write in {directory} ({err.strerror})") from None
 
 
 PARTIAL = ".part-"  # in the name of everything not yet renamed into place
@@ -44,16 +131,28 @@ def remove_partials(directory: Path) -> None:
 
 
 @contextlib.contextmanager
-def staged(target: Path):
-    """Yield a staging directory that becomes ``target`` on success, and vanishes on failure."""
+def staged(target: Path, command: str | None = None, claimed: bool = False):
+    """Yield a staging directory that becomes ``target`` on success, and vanishes on failure.
+
+    command  the command writing it, recorded in its MARKER (None: a part of a
+             results directory, such as a sweep's point, which has no marker)
+
+    claimed  ``target`` is an empty directory default_dir() made for this
+             run: removed on failure too
+    """
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     stage = _partial(target)
     try:
         stage.mkdir()
+        if command is not None:
+            write_marker(stage, command)
         yield stage
     except BaseException:
         shutil.rmtree(stage, ignore_errors=True)
+        if claimed:
+            with contextlib.suppress(OSError):
+                target.rmdir()  # only if still empty
         raise
     if target.exists():
         remove(target)

@@ -10,6 +10,7 @@ results with output.staged().
 """
 
 import contextlib
+import ctypes
 import multiprocessing
 import os
 import signal
@@ -61,10 +62,26 @@ def default_workers() -> int:
     return min(2, os.cpu_count() or 1)
 
 
-def _leave_interrupts_to_the_parent():
-    """In each worker: Ctrl-C is the parent's to handle, and SIGTERM, which
-    only the parent sends a worker, ends it at once (a forked worker would
-    otherwise inherit interruptible()'s handler and carry on with its next task)."""
+PR_SET_PDEATHSIG = 1  # linux/prctl.h
+
+
+def _die_with(parent: int) -> None:
+    """End this worker when ``parent`` dies, however it dies (kill -9 included):
+    Linux's parent-death signal, and a check that the parent has not already
+    gone before it was set."""
+    if sys.platform.startswith("linux"):
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+    if os.getppid() != parent:
+        os._exit(1)
+
+
+def _worker_start(parent: int):
+    """In each worker: it dies with its parent (_die_with); Ctrl-C is the
+    parent's to handle, and SIGTERM, which only the parent sends a worker, ends
+    it at once (a forked worker would otherwise inherit interruptible()'s
+    handler and carry on with its next task)."""
+    _die_with(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
@@ -84,7 +101,7 @@ def run_on_pool(function, tasks, workers: int, on_result) -> None:
     An exception from a task, or an interrupt, ends the whole pool.
     """
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(_start_method()),
-                               initializer=_leave_interrupts_to_the_parent)
+                               initializer=_worker_start, initargs=(os.getpid(),))
     try:
         futures = {pool.submit(function, task): task for task in tasks}
         for future in as_completed(futures):

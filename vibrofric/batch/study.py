@@ -19,7 +19,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from .. import output, plots
+from .. import budget, output, plots
 from ..grid import point_name
 from ..parallel import default_workers, interruptible, run_on_pool
 from . import mpi
@@ -56,9 +56,16 @@ class Outcome:
         errors = [(r["rel_error"], self.name(r)) for r in self.records if r.get("rel_error") is not None]
         return max(errors, default=None)
 
+    @property
+    def unsettled(self) -> list:
+        """Done points with an average that has not settled (analytic.summary.summarize)."""
+        return [r for r in self.records if ERROR not in r and not all(
+            summary["settled"] for summary in (r.get("fe"), r.get("analytic"), r) if
+            isinstance(summary, dict) and "settled" in summary)]
+
     def summary_line(self) -> str:
         line = (f"sweep: {len(self.records)} points ({self.reused} reused), {len(self.failed)} failed, "
-                f"{self.wall_time_s:.1f} s")
+                f"{len(self.unsettled)} unsettled, {self.wall_time_s:.1f} s")
         worst = self.worst_fe_error()
         if worst is not None:
             line += f"; worst |FE - analytic| / analytic {worst[0]:.2%} at {worst[1]}"
@@ -97,6 +104,7 @@ def _prepare(scene, ledger: Ledger, out: Path) -> list:
     (so that every point directory there is final for this run).
     """
     (out / "points").mkdir(parents=True, exist_ok=True)
+    output.write_marker(out, "sweep")
     output.remove_partials(out)
     output.remove_partials(out / "points")
     output.write_scene(out, scene)
@@ -132,10 +140,11 @@ def _figures(ledger: Ledger, keys: list, scene, out: Path) -> None:
             draw(partial)
 
 
-def run_sweep(scene, grid, mode: str, out=None, workers=None) -> Outcome:
+def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = False) -> Outcome:
     """Run ``mode`` ("analytic" or "fe") at every point of ``grid`` into ``out``
     (default results/<scene>-sweep-<time>/), resuming what is there, on
-    ``workers`` processes (default: both cores) or, under mpirun, the ranks.
+    ``workers`` processes (default: both cores) or, under mpirun, the ranks;
+    ``fresh``: replace what ``out`` holds instead of resuming it.
 
     Raises SceneError before any work if the grid names an unknown key or a
     point twice; KeyboardInterrupt on Ctrl-C or SIGTERM, with every finished
@@ -145,10 +154,15 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None) -> Outcome:
     keys = [key for key, _ in grid]
     comm = mpi.world()
     leader = comm is None or comm.rank == 0
-    out = Path(out or output.default_dir(f"{scene.name}-sweep"))
+    if out is None and leader:
+        out = output.default_dir(f"{scene.name}-sweep")
     if comm is not None:
         out = comm.bcast(out, root=0)  # rank 0's time stamp in the default name
+    out = Path(out)
     ledger = Ledger(plan(scene, grid, out / "points"), mode, out)
+    budget.check([p.scene for p in ledger.points if p.scene is not None], mode == "fe", out)
+    if fresh and leader and out.exists():
+        output.remove(out)
     todo = _prepare(scene, ledger, out) if leader else None
     if comm is not None:
         todo = comm.bcast(todo, root=0)  # rank 0's reading of the directories, for all

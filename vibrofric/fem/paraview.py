@@ -27,7 +27,9 @@ repaired right after it is written (``repair_frame``):
   ordered the same either way), which meshio (5.x) refuses: stamped "1.0".
 """
 
+import contextlib
 import re
+import signal
 from pathlib import Path
 
 import numpy as np
@@ -58,6 +60,20 @@ def node_fields(model, state) -> dict:
     return out
 
 
+@contextlib.contextmanager
+def signals_deferred():
+    """Hold Ctrl-C and SIGTERM until the block is done. An interrupt raised
+    inside DOLFINx's writer would keep the writer alive in its traceback, and
+    its destructor would then write the .pvd again after a failed run's
+    directory was removed, recreating it."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 class FrameWriter:
     """Writes ``vtk_dir/block.pvd`` (+ .vtu per frame); call with a recording.State."""
 
@@ -73,7 +89,8 @@ class FrameWriter:
         self.pressure = fem.Function(Q, name="contact_pressure")
         self.path = Path(vtk_dir) / "block.pvd"
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.file = io.VTKFile(comm, str(self.path), "w")
+        with signals_deferred():
+            self.file = io.VTKFile(comm, str(self.path), "w")
         self.frames = 0
 
     def __call__(self, state) -> None:
@@ -81,14 +98,21 @@ class FrameWriter:
         for name, function in self.vectors.items():
             function.x.array[:] = values[name].ravel()
         self.pressure.x.array[:] = values["contact_pressure"][self.q_nodes]
-        self.file.write_function([self.vectors["displacement"], self.vectors["velocity"],
-                                  self.pressure] + [self.vectors[name] for name in FIELDS[3:]],
-                                 state.t)
+        with signals_deferred():
+            self.file.write_function([self.vectors["displacement"], self.vectors["velocity"],
+                                      self.pressure] + [self.vectors[name] for name in FIELDS[3:]],
+                                     state.t)
         repair_frame(self.path.parent / f"{self.path.stem}{self.frames:06d}.pvtu")
         self.frames += 1
 
     def close(self) -> None:
-        self.file.close()
+        """Write the .pvd and let DOLFINx's writer go at once: its destructor
+        writes the .pvd again (creating its directory if need be), which must
+        happen before a failed run's directory is removed, not after."""
+        if self.file is not None:
+            with signals_deferred():
+                self.file.close()
+                self.file = None
 
 
 def repair_frame(pvtu: Path) -> None:
