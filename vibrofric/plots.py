@@ -9,16 +9,14 @@ import numpy as np  # noqa: E402
 from .analytic.closed_form import coulomb_ratio  # noqa: E402
 from .analytic.series import PLOT_CYCLES  # noqa: E402
 
-HISTORY_END = 0.3  # s: the paper plots time histories to 0.3 s (Figs 7, 10)
 LIMIT_POINTS = 80  # on the rigid Coulomb limit's curve; each is a 16 ms quadrature
 
 
-def drive_force_history(runs: dict, scene, path) -> None:
-    """F_d over time to 0.3 s (Fig 7 / Fig 10 analogue); ``runs`` maps a label to a TimeSeries."""
+def drive_force_figure(runs: dict, scene):
+    """F_d over the whole run (Fig 7 / Fig 10 analogue); ``runs`` maps a label to a TimeSeries."""
     fig, ax = plt.subplots(figsize=(7, 4))
     for label, series in runs.items():
-        keep = series.t <= HISTORY_END
-        ax.plot(series.t[keep], series.F_d[keep], lw=0.8, label=label)
+        ax.plot(series.t, series.F_d, lw=0.8, label=label)
     ax.axhline(scene.F_c, color="k", ls=":", lw=0.8, label=r"$F_c = \mu F_N$")
     if scene.vibrated:
         ax.axvline(scene.vibration.t_on, color="grey", ls="--", lw=0.8, label="vibration on")
@@ -27,6 +25,12 @@ def drive_force_history(runs: dict, scene, path) -> None:
                  rf"$\theta$ = {scene.vibration.theta_deg:g}°")
     ax.legend(fontsize=8)
     fig.tight_layout()
+    return fig
+
+
+def drive_force_history(runs: dict, scene, path) -> None:
+    """drive_force_figure() as PNG."""
+    fig = drive_force_figure(runs, scene)
     fig.savefig(path, dpi=120)
     plt.close(fig)
 

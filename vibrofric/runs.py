@@ -52,10 +52,11 @@ def relative_error(fe: float | None, analytic: float | None) -> float | None:
     return abs(fe - analytic) / analytic
 
 
-def fe_beside_analytic(scene, directory, comm=None) -> FEBesideAnalytic:
+def fe_beside_analytic(scene, directory, comm=None, progress=None) -> FEBesideAnalytic:
     """Run the scene's FE model (on ``comm``, default MPI.COMM_SELF) and the
     analytic stepper (at time.dt <= ANALYTIC_DT), and write into ``directory``: scene.toml, timeseries.csv
     (FE), analytic_timeseries.csv and, if fem.output_every > 0, paraview/.
+    ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe).
 
     Raises SceneError or NumericalError (fem.run_fe), leaving whatever it wrote
     by then for the caller's output.staged() to drop.
@@ -64,7 +65,7 @@ def fe_beside_analytic(scene, directory, comm=None) -> FEBesideAnalytic:
     from .analytic.summary import summarize
     from .fem import run_fe
 
-    fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview")
+    fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress)
     analytic_series, analytic = run(analytic_scene(scene))
     info = fe.info
     fe_summary = {**summarize(fe.series, scene, info["wall_time_s"]),

@@ -142,12 +142,13 @@ def check(scene, model) -> None:
                                        "use fem.integrator = \"implicit\" or \"reduced\"")
 
 
-def integrate(model, scene, plan, frame=None, every=0) -> Integration:
+def integrate(model, scene, plan, frame=None, every=0, progress=None) -> Integration:
     """Run the scene's steps with central differences (fewer once settled: steady.py).
 
     plan   analytic.series.RecordPlan: which steps to keep
     frame  optional callable frame(state) called at t = 0, every ``every`` steps
            and at the last step
+    progress  optional callable progress(step, steps) (recording.run_in_chunks)
     """
     check(scene, model)  # (run_fe checks before opening output; this guards direct calls)
     c, dt = scene.contact, scene.time.dt
@@ -189,6 +190,6 @@ def integrate(model, scene, plan, frame=None, every=0) -> Integration:
                                   f"more fem.damping (now {model.beta:.3g} s)")
         return stop
 
-    last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance)
+    last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress)
     return Integration(recorder.table(last), state(last),
                        {**loop_stats(scalars, loop_time), **steady.report(last)})

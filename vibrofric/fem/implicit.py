@@ -395,7 +395,7 @@ class ImplicitRun:
                 "friction_substeps": self.substeps,
                 "contraction_bound": self.contraction}
 
-    def integrate(self, plan, frame=None, every=0) -> Integration:
+    def integrate(self, plan, frame=None, every=0, progress=None) -> Integration:
         """Run ``plan.steps`` steps (or fewer, once settled: steady.py) from the preload."""
         scene, model, system = self.scene, self.model, self.system
         c, dt = scene.contact, scene.time.dt
@@ -446,7 +446,7 @@ class ImplicitRun:
                                       f"try a smaller time.dt (the {self.name} integrator)")
             return stop
 
-        last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance)
+        last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress)
         stats = {**loop_stats(scalars, loop_time),
                  "iterations_max": int(scalars[ITER_MAX]),
                  "iterations_mean": scalars[ITER_SUM] / max(last, 1),

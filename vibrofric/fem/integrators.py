@@ -11,12 +11,13 @@ An integrator is a class prepared once per run:
         for "auto" why it was picked (None otherwise)
     run.cost_per_step
         its time per step in ns, roughly (implicit.COST; for "auto")
-    run.integrate(plan, frame=None, every=0) -> recording.Integration
+    run.integrate(plan, frame=None, every=0, progress=None) -> recording.Integration
         run ``plan.steps`` steps of ``scene.time.dt`` from the static preload
         (fewer once settled, steady.py), keep the rows ``plan``
         (analytic.series.RecordPlan) asks for (columns recording.columns),
         call ``frame(state)`` at t = 0, every ``every`` steps and at the end
-        when given, and raise analytic.series.NumericalError on numerical trouble
+        when given, ``progress(step, steps)`` now and then (recording.run_in_chunks),
+        and raise analytic.series.NumericalError on numerical trouble
 
 The integrators, all driving the same per-node friction law (contact.py):
 
@@ -53,8 +54,8 @@ class ExplicitRun:
         return (cost["sparse"] * self.model.stiffness.nnz + cost["vector"] * 4 * self.model.dofs
                 + cost["friction"] * self.model.contact_nodes.size)
 
-    def integrate(self, plan, frame=None, every=0):
-        return explicit.integrate(self.model, self.scene, plan, frame, every)
+    def integrate(self, plan, frame=None, every=0, progress=None):
+        return explicit.integrate(self.model, self.scene, plan, frame, every, progress)
 
 
 def implicit_run(scene, model) -> ImplicitRun:

@@ -161,27 +161,43 @@ def finish_step(t, t_on, f_d, f_n, f_x, f_y, x, y, x_b, y_b, friction_magnitude,
     return code
 
 
-def run_in_chunks(steps: int, frame, every: int, state, advance):
+# With a progress callback, the compiled loop returns to Python at least this
+# often (steps): ~0.1-0.5 s of an FE loop, so that a progress bar moves and a
+# Ctrl-C is answered. The loops keep all their state in arrays, so where a run
+# is cut into chunks does not change its results.
+PROGRESS_STEPS = 5000
+
+
+def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
     """Run steps 1..steps by ``advance(first, last) -> stop step or 0``, returning to
-    Python only for the ParaView frames: frame(state(i)) at i = 0, every ``every``
-    steps and at the last step. Returns (the last step run, the loop's seconds)."""
-    chunk = every if (frame is not None and every > 0) else steps
+    Python only for the ParaView frames, frame(state(i)) at i = 0, every ``every``
+    steps and at the last step, and for ``progress(i, steps)`` every
+    PROGRESS_STEPS steps and at the end. Returns (the last step run, the loop's seconds)."""
+    frames = frame is not None and every > 0
     if frame is not None:
         frame(state(0))
     start = time.perf_counter()
     first, last = 1, 0
     while first <= steps:
-        last = min(steps, first + chunk - 1)
+        last = steps
+        if frames:
+            last = min(last, (first // every + 1) * every)
+        if progress is not None:
+            last = min(last, (first // PROGRESS_STEPS + 1) * PROGRESS_STEPS)
         stop = advance(first, last)
         if stop:
             last = stop
             break
-        if frame is not None and last % chunk == 0:
+        if frames and last % every == 0:
             frame(state(last))
+        if progress is not None:
+            progress(last, steps)
         first = last + 1
     loop_time = time.perf_counter() - start
-    if frame is not None and last % chunk != 0:
+    if frame is not None and not (frames and last % every == 0):
         frame(state(last))
+    if progress is not None:
+        progress(last, steps)
     return last, loop_time
 
 

@@ -57,12 +57,14 @@ def _communicator(comm):
     return comm
 
 
-def run_fe(scene, comm=None, vtk_dir=None) -> FEResult:
+def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     """Run the scene's finite-element model (spec/model.md section 5).
 
     comm     an MPI communicator of one process (default MPI.COMM_SELF)
     vtk_dir  if given and fem.output_every > 0: write vtk_dir/block.pvd, a frame
              every fem.output_every steps (paraview.py)
+    progress if given, called as progress(t_done_s, t_total_s) every few
+             thousand steps of the time loop (simulated seconds)
 
     Raises SceneError (naming the key) for a scene the model cannot run, before
     the first step, and NumericalError for a run that went wrong (NaN, a
@@ -94,8 +96,13 @@ def run_fe(scene, comm=None, vtk_dir=None) -> FEResult:
     writer = None
     if vtk_dir is not None and scene.fem.output_every > 0:
         writer = FrameWriter(model, comm, vtk_dir)
+    steps_done = None
+    if progress is not None:
+        def steps_done(step, steps):
+            progress(step * scene.time.dt, steps * scene.time.dt)
     try:
-        run = integrator.integrate(plan, frame=writer, every=scene.fem.output_every)
+        run = integrator.integrate(plan, frame=writer, every=scene.fem.output_every,
+                                   progress=steps_done)
     finally:
         if writer is not None:
             writer.close()
