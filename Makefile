@@ -7,7 +7,7 @@
 
 VENV    ?= .venv
 PY      := $(VENV)/bin/python
-DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-venv python3-dev libosmesa6
+DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-matplotlib python3-venv python3-dev libosmesa6
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEMO_OUT ?= results/demo
 
@@ -48,10 +48,12 @@ $(VENV)/.debs:
 	/usr/bin/python3 -m venv --system-site-packages $(VENV)
 	touch $@
 
-# pip adds only what Debian lacks; the constraints pin Debian's numpy, numba
-# and scipy so that no pip package can replace them under DOLFINx.
+# pip adds only what Debian lacks; the constraints pin Debian's numpy, numba,
+# scipy and matplotlib so that no pip package can replace them (under DOLFINx;
+# a pip matplotlib beside Debian's mpl_toolkits warns at every run that Axes3D
+# cannot be imported).
 $(VENV)/.installed: $(VENV)/.debs pyproject.toml
-	$(PY) -c "import numpy, numba, scipy; print(f'numpy=={numpy.__version__}\nnumba=={numba.__version__}\nscipy=={scipy.__version__}')" > $(VENV)/constraints.txt
+	$(PY) -c "import numpy, numba, scipy, matplotlib; print('\n'.join(f'{m.__name__}=={m.__version__}' for m in (numpy, numba, scipy, matplotlib)))" > $(VENV)/constraints.txt
 	$(PY) -m pip install -q -c $(VENV)/constraints.txt -e '.[test]'
 	touch $@
 
