@@ -13,9 +13,10 @@ DEMO_OUT ?= results/demo
 
 .PHONY: demo test test-fast bench bench-full setup clean clean-cache
 
-# The paper's Fig 7 scene (longitudinal, k_v = 6) to 0.3 s, FE and analytic.
+# The paper's Fig 7 scene (longitudinal, k_v = 6) to 0.3 s, FE and analytic
+# (--force: a second make demo replaces the first one's results).
 demo: $(VENV)/.installed
-	$(VENV)/bin/vibrofric run scenes/longitudinal.toml --set time.T=0.3 --out $(DEMO_OUT)
+	$(VENV)/bin/vibrofric run scenes/longitudinal.toml --set time.T=0.3 --out $(DEMO_OUT) --force
 
 test: $(VENV)/.installed
 	$(PY) -m pytest -q -m ""
@@ -26,11 +27,11 @@ test-fast: $(VENV)/.installed
 # Speed against error of every method (README "Choosing settings"), then the
 # analytic stepper's own timings (benchmarks/).
 bench: $(VENV)/.installed
-	$(VENV)/bin/vibrofric bench --quick --out results/bench
+	$(VENV)/bin/vibrofric bench --quick --out results/bench --force
 	$(PY) benchmarks/analytic_speed.py
 
 bench-full: $(VENV)/.installed
-	$(VENV)/bin/vibrofric bench --out results/bench-full
+	$(VENV)/bin/vibrofric bench --out results/bench-full --force
 
 setup: $(VENV)/.installed
 
