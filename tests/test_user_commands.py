@@ -171,14 +171,29 @@ def test_single_run_interrupted_in_its_time_loop_leaves_nothing(home, how, said)
 
 
 def worker_pids(parent: int) -> list:
-    children = Path(f"/proc/{parent}/task/{parent}/children")
-    return [int(pid) for pid in children.read_text().split()] if children.exists() else []
+    """The live processes whose parent is ``parent`` (from /proc/*/stat)."""
+    pids = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == parent and fields[0] != "Z":
+            pids.append(int(stat.parent.name))
+    return pids
+
+
+def alive(pid: int) -> bool:
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 def test_sweep_workers_die_with_their_parent(home):
     sweep = subprocess.Popen([sys.executable, "-m", "vibrofric.cli", "sweep", LONGITUDINAL,
-                              "--set", "time.T=100", "--set", "time.series_dt=0.01",
+                              "--set", "time.T=300", "--set", "time.series_dt=0.01",
                               "--grid", "vibration.k_v=2,3,4,6",
                               "--workers", "2", "--out", "S"],
                              cwd=home, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -189,8 +204,7 @@ def test_sweep_workers_die_with_their_parent(home):
     sweep.kill()  # kill -9: the parent cannot clean up
     sweep.wait()
     deadline = time.monotonic() + 10
-    while any(Path(f"/proc/{pid}").exists() and "Z" not in Path(f"/proc/{pid}/stat").read_text().split()[2]
-              for pid in workers):
+    while any(alive(pid) for pid in workers):
         assert time.monotonic() < deadline, f"workers {workers} outlived their parent"
         time.sleep(0.1)
 

@@ -58,10 +58,13 @@ class Outcome:
 
     @property
     def unsettled(self) -> list:
-        """Done points with an average that has not settled (analytic.summary.summarize)."""
-        return [r for r in self.records if ERROR not in r and not all(
-            summary["settled"] for summary in (r.get("fe"), r.get("analytic"), r) if
-            isinstance(summary, dict) and "settled" in summary)]
+        """Done points with an average that has not settled (analytic.summary.summarize;
+        an FE point's FE or analytic run; points written before the flag existed count as settled)."""
+        def settled(record) -> bool:
+            summaries = [record["fe"], record["analytic"]] if "fe" in record else [record]
+            return all(summary.get("settled", True) for summary in summaries)
+
+        return [r for r in self.records if ERROR not in r and not settled(r)]
 
     def summary_line(self) -> str:
         line = (f"sweep: {len(self.records)} points ({self.reused} reused), {len(self.failed)} failed, "
