@@ -36,7 +36,7 @@ from scipy.integrate import solve_ivp
 from vibrofric import scene as scene_module
 from vibrofric.analytic.run import STEPPERS, run
 from vibrofric.analytic.summary import summarize
-from vibrofric.analytic.sweep import sweep
+from vibrofric.batch import sweep
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
 STEP_DT = 1e-6                  # s: the paper's step, 10^6 steps per 1 s scene

@@ -5,10 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from vibrofric.analytic import NumericalError, run_coupled
+from vibrofric.analytic import run_coupled
+from vibrofric.core.errors import NumericalError
 from vibrofric.analytic.closed_form import coulomb_ratio, longitudinal_ratio
 from vibrofric.analytic.run import run
-from vibrofric.analytic.sweep import sweep
+from vibrofric.batch import sweep
 
 FIG12_KV = (2, 3, 4, 6, 20)
 

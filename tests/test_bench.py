@@ -36,7 +36,7 @@ def small():
 def test_errors_are_against_each_models_own_reference(small):
     rows = {(m.method, m.setting): m for m in small["rows"]}
     # The paper update's error is first order in dt (its Euler step,
-    # spec/model.md): halving dt must halve it, within 1.5-2.5x (the higher
+    # docs/model.md): halving dt must halve it, within 1.5-2.5x (the higher
     # orders of a 1e-2-sized error). The exact update's smaller error changes
     # sign with dt (the split's error against the update's): it must shrink.
     def errors(update):

@@ -16,14 +16,15 @@ pytest.importorskip("dolfinx")
 
 from vibrofric import scene as scenes  # noqa: E402
 from vibrofric.analytic import breakaway_time, run_coupled, summarize  # noqa: E402
-from vibrofric.analytic.series import NumericalError, RecordPlan, full_resolution_steps  # noqa: E402
+from vibrofric.core.errors import NumericalError  # noqa: E402
+from vibrofric.core.series import RecordPlan, full_resolution_steps  # noqa: E402
 from vibrofric.fem import FEResult, run_fe  # noqa: E402
 from vibrofric.fem import explicit, model as fem_model, run as fem_run  # noqa: E402
 from vibrofric.fem.contact import contact_forces  # noqa: E402
 from vibrofric.fem.paraview import FIELDS  # noqa: E402
 from vibrofric.fem.stability import critical_step, max_frequency  # noqa: E402
 from vibrofric.fem.drive import drive_stiffness_action  # noqa: E402
-from vibrofric.analytic.coupled import friction_law_args  # noqa: E402
+from vibrofric.core.friction import friction_law_args  # noqa: E402
 from vibrofric.scene import SceneError  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

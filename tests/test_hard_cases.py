@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from vibrofric.analytic import NumericalError
+from vibrofric.core.errors import NumericalError
 from vibrofric.analytic.run import run
 from vibrofric.cli import main
 

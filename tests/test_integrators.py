@@ -18,7 +18,8 @@ pytest.importorskip("dolfinx")
 
 from vibrofric import scene as scenes  # noqa: E402
 from vibrofric.analytic import run_coupled, summarize  # noqa: E402
-from vibrofric.analytic.series import NumericalError, RecordPlan  # noqa: E402
+from vibrofric.core.errors import NumericalError  # noqa: E402
+from vibrofric.core.series import RecordPlan  # noqa: E402
 from vibrofric.fem import integrators, run_fe  # noqa: E402
 from vibrofric.fem import model as fem_model  # noqa: E402
 from vibrofric.fem.linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve  # noqa: E402

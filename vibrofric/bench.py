@@ -13,7 +13,7 @@ reference of the *same* model:
   the explicit run at twice its step (a row of the table);
 
 and, separately, every FE answer against the analytic reference: the lumped
-model's own error (the block's compliance and rocking, spec/model.md).
+model's own error (the block's compliance and rocking, docs/model.md).
 
 It also measures how the cost grows, on a short vibrated run (GROWTH: the
 vibration from 1 ms, F_dv over 20 cycles): the time loop's wall time per

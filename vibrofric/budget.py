@@ -19,7 +19,7 @@ import os
 import shutil
 from pathlib import Path
 
-from .analytic.series import COLUMNS, RecordPlan, full_resolution_steps
+from .core.series import COLUMNS, RecordPlan, full_resolution_steps
 from .meshes import level_counts
 from .scene import SceneError
 

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from . import output, plots
 from . import scene as scene_module
-from .analytic.series import NumericalError
+from .core.errors import NumericalError
 from .output import OutputError
 from .parallel import interruptible
 from .scene import SceneError

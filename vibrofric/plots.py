@@ -7,7 +7,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .analytic.closed_form import coulomb_ratio  # noqa: E402
-from .analytic.series import PLOT_CYCLES  # noqa: E402
+from .core.series import PLOT_CYCLES  # noqa: E402
 
 LIMIT_POINTS = 80  # on the rigid Coulomb limit's curve; each is a 16 ms quadrature
 

@@ -8,8 +8,8 @@ their own summary and plots.
 from dataclasses import dataclass
 
 from . import output
-from .analytic.coupled import slip_resolving_step
-from .analytic.series import TimeSeries
+from .core.friction import slip_resolving_step
+from .core.series import TimeSeries
 
 # The analytic stepper beside an FE run takes at most this step, whatever the
 # FE run's, and at most analytic.coupled.slip_resolving_step: the two-phase

@@ -1,7 +1,7 @@
 """Scenes: the physics of one study case plus the numerics that run it.
 
 A scene is a TOML file with the sections of spec/interface.md. Every key has a
-default (the paper's longitudinal case, spec/model.md section 4), so a file
+default (the paper's longitudinal case, docs/model.md section 4), so a file
 holds only what differs; ``--set section.key=value`` overrides any key. Every
 value is checked before any work: a bad one raises ``SceneError`` naming it.
 """
@@ -123,7 +123,7 @@ class Scene:
     time: Time = field(default_factory=Time)
     fem: Fem = field(default_factory=Fem)
 
-    # Derived quantities (spec/model.md section 1).
+    # Derived quantities (docs/model.md section 1).
     @property
     def vibrated(self) -> bool:
         return self.vibration.k_v > 0.0

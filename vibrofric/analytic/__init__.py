@@ -2,8 +2,7 @@
 
 from .coupled import run_coupled
 from .longitudinal import run_longitudinal
-from .series import COLUMNS, NumericalError, TimeSeries
 from .summary import breakaway_time, cycle_average, steady_drive_force, summarize
 
-__all__ = ["COLUMNS", "NumericalError", "TimeSeries", "breakaway_time", "cycle_average",
-           "run_coupled", "run_longitudinal", "steady_drive_force", "summarize"]
+__all__ = ["breakaway_time", "cycle_average", "run_coupled", "run_longitudinal",
+           "steady_drive_force", "summarize"]

@@ -18,41 +18,12 @@ import math
 import numpy as np
 from numba import njit
 
+from ..core.base_motion import base_displacement, vibration_axis
+from ..core.errors import NumericalError
+from ..core.friction import divergence_bound, friction_law_args
+from ..core.series import RecordPlan, TimeSeries, full_resolution_steps
 from ..friction_law import node_step
 from ..friction_law.kernels import FASTMATH
-from ..friction_law.law import LAWS, UPDATES
-from .series import NumericalError, RecordPlan, TimeSeries, full_resolution_steps
-
-# A Dahl asperity never stretches beyond its sliding length s_c (a LuGre one
-# beyond F_s / k_t): past a few times that, the update has diverged.
-DIVERGED = 3.0
-
-
-@njit(cache=True, error_model="numpy")
-def base_phase(i, dt, omega, t_on, sin_phase, cos_phase, cos_step, sin_step):
-    """(sin, cos) of w (t_i - t_on), the phase of u(t) = u0 sin(w (t - t_on)) (eq 23).
-
-    Advanced from the previous step by a rotation through w dt (two
-    multiply-adds instead of a sine); re-anchored on the exact sine every
-    1024 steps, which keeps the rounding drift below 1e-13.
-    """
-    steps_on = i - int(math.ceil(t_on / dt - 1e-9))
-    if steps_on & 1023 == 0:
-        phase = omega * (i * dt - t_on)
-        return math.sin(phase), math.cos(phase)
-    return (sin_phase * cos_step + cos_phase * sin_step,
-            cos_phase * cos_step - sin_phase * sin_step)
-
-
-@njit(cache=True, error_model="numpy")
-def base_displacement(i, dt, omega, t_on, amplitude, sin_phase, cos_phase, cos_step, sin_step):
-    """(u, sin, cos): the base's displacement along its axis at t_i = i dt,
-    u = amplitude sin(w (t_i - t_on)) from t_on, 0 before (eq 23), and the
-    phase carried to the next step (base_phase)."""
-    if i * dt < t_on:
-        return 0.0, sin_phase, cos_phase
-    sin_phase, cos_phase = base_phase(i, dt, omega, t_on, sin_phase, cos_phase, cos_step, sin_step)
-    return amplitude * sin_phase, sin_phase, cos_phase
 
 
 @njit(cache=True, error_model="numpy")
@@ -104,44 +75,6 @@ def coupled_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_the
             _record(out, j, t, f_d, f_x, f_y, x, y, xb, yb)
             j += 1
     return 0
-
-
-def vibration_axis(theta_deg: float):
-    """(cos theta, sin theta), exactly 0 or +-1 on the axes (eqs 24-25)."""
-    theta = math.radians(theta_deg)
-    return tuple(0.0 if abs(v) < 1e-15 else v for v in (math.cos(theta), math.sin(theta)))
-
-
-def friction_law_args(scene):
-    """Scalars of the scene's law in ``node_step`` order after the normal force."""
-    c = scene.contact
-    return (c.k_t, c.mu, scene.F_s / c.F_N, c.v_s, c.h_t, c.h_v, LAWS[c.law], UPDATES[c.update])
-
-
-def divergence_bound(scene) -> float:
-    """Asperity length past which an update has diverged."""
-    return DIVERGED * max(scene.F_c, scene.F_s) / scene.contact.k_t
-
-
-# The two-phase update (base phase, then body phase, eqs 28-30) splits each
-# step, with an error first order in the slip a step makes against the
-# sliding length s_c = F_c / k_t. It is largest where the sliding direction
-# turns (oblique vibration, 2D): F_dv/F_d0 at k_v = 20, theta = 75 deg
-# (scenes/coupled.toml) against dt = 2.5e-7 s is -1.1% at 1e-6 s, where the
-# fastest slip makes 0.14 s_c a step, and -3.3% at 2.5e-6 s.
-SLIP_PER_STEP = 0.05
-
-
-def slip_resolving_step(scene) -> float:
-    """The step in which the fastest sliding, v_a + v_d, moves SLIP_PER_STEP s_c.
-
-    At it the two-phase split errs by ~0.4% of F_dv in the worst case above
-    (~0.1% or less along the axes). Infinite without friction.
-    """
-    if scene.F_c <= 0.0:
-        return math.inf
-    sliding_length = scene.F_c / scene.contact.k_t
-    return SLIP_PER_STEP * sliding_length / (scene.v_a + scene.drive.v_d)
 
 
 def check_finished(failed_step: int, scene) -> None:

@@ -14,8 +14,10 @@ from numba import njit
 from ..friction_law import relax_length
 from ..friction_law.kernels import FASTMATH
 from ..friction_law.law import UPDATES
-from .coupled import _record, base_displacement, check_finished, divergence_bound
-from .series import RecordPlan, TimeSeries, full_resolution_steps
+from ..core.base_motion import base_displacement
+from ..core.friction import divergence_bound
+from ..core.series import RecordPlan, TimeSeries, full_resolution_steps
+from .coupled import _record, check_finished
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)

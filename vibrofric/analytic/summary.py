@@ -5,7 +5,8 @@ import math
 import numpy as np
 
 from ..friction_law import FrictionLaw
-from .series import NumericalError, TimeSeries, averaging_steps
+from ..core.errors import NumericalError
+from ..core.series import TimeSeries, averaging_steps
 
 
 def cycle_average(values: np.ndarray, steps: int) -> float:

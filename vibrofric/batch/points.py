@@ -23,7 +23,7 @@ from pathlib import Path
 
 from .. import output
 from .. import scene as scene_module
-from ..analytic.series import NumericalError
+from ..core.errors import NumericalError
 from ..grid import canonical_grid, grid_points, unique_names
 from ..parallel import stop_if_interrupted
 from ..scene import Scene, SceneError

@@ -1,7 +1,7 @@
 """The finite-element model: an elastic block on a vibrating rigid base (DOLFINx 0.5).
 
 The open counterpart of the paper's Abaqus/Explicit model with a VFRIC
-friction subroutine (spec/model.md section 5). One physical idea per module:
+friction subroutine (docs/model.md section 5). One physical idea per module:
 
     assembly     the elastic block in DOLFINx: K (vector Q1), lumped mass, face areas
     loads        gravity + top pressure, sized to the normal reaction F_N

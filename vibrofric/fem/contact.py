@@ -12,7 +12,7 @@ area, sum w_i = 1) and k_pen the penalty stiffness of the whole face. The
 dashpot term beta k_pen w_i v_z is the penalty spring's share of the Rayleigh
 damping C = beta K; the max() keeps the contact from pulling.
 
-Tangential direction: the friction law of spec/model.md sections 1-3 per node,
+Tangential direction: the friction law of docs/model.md sections 1-3 per node,
 the analogue of Abaqus' VFRIC subroutine. Each step every contact node gets
 
     stiffness      k_t w_i                   (its share of the contact stiffness)

@@ -10,7 +10,7 @@ state, and its force is spread over the same nodes by the same weights:
 (the same weights both ways make the spring the symmetric rank-one stiffness
 k_d w w^T: it stores energy k_d (v_d t - x_A)^2 / 2 and nothing else).
 
-Where it attaches (scene drive.attach, spec/model.md section 5):
+Where it attaches (scene drive.attach, docs/model.md section 5):
 
 contact-plane
     the contact-face nodes, weighted by tributary area: a uniform traction on

@@ -31,7 +31,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ..analytic.coupled import base_displacement, friction_law_args, vibration_axis
+from ..core.base_motion import base_displacement, vibration_axis
+from ..core.friction import friction_law_args
 from ..friction_law.kernels import FASTMATH
 from ..scene import SceneError
 from . import trouble
@@ -145,7 +146,7 @@ def check(scene, model) -> None:
 def integrate(model, scene, plan, frame=None, every=0, progress=None) -> Integration:
     """Run the scene's steps with central differences (fewer once settled: steady.py).
 
-    plan   analytic.series.RecordPlan: which steps to keep
+    plan   core.series.RecordPlan: which steps to keep
     frame  optional callable frame(state) called at t = 0, every ``every`` steps
            and at the last step
     progress  optional callable progress(step, steps) (recording.run_in_chunks)

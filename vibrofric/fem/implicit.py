@@ -101,7 +101,8 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from ..analytic.coupled import base_displacement, friction_law_args, slip_resolving_step, vibration_axis
+from ..core.base_motion import base_displacement, vibration_axis
+from ..core.friction import friction_law_args, slip_resolving_step
 from ..friction_law.kernels import FASTMATH
 from ..scene import SceneError
 from . import energy, trouble

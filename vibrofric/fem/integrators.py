@@ -14,10 +14,10 @@ An integrator is a class prepared once per run:
     run.integrate(plan, frame=None, every=0, progress=None) -> recording.Integration
         run ``plan.steps`` steps of ``scene.time.dt`` from the static preload
         (fewer once settled, steady.py), keep the rows ``plan``
-        (analytic.series.RecordPlan) asks for (columns recording.columns),
+        (core.series.RecordPlan) asks for (columns recording.columns),
         call ``frame(state)`` at t = 0, every ``every`` steps and at the end
         when given, ``progress(step, steps)`` now and then (recording.run_in_chunks),
-        and raise analytic.series.NumericalError on numerical trouble
+        and raise core.errors.NumericalError on numerical trouble
 
 The integrators, all driving the same per-node friction law (contact.py):
 

@@ -1,4 +1,4 @@
-"""The normal load: gravity plus a uniform pressure on the top face (spec/model.md section 5).
+"""The normal load: gravity plus a uniform pressure on the top face (docs/model.md section 5).
 
 Both are dead loads in -Z. Their nodal forces:
 

@@ -1,7 +1,7 @@
 """The static preload: the block pressed on the base before anything moves.
 
 Starting the dynamics from an unloaded block with the loads applied at once
-sets it ringing on its contact (spec/model.md "Traps measured": the normal
+sets it ringing on its contact (docs/model.md "Traps measured": the normal
 force swung 44-69 N instead of 55 N). Instead every run starts from the static
 equilibrium of the normal load on the penalty springs:
 

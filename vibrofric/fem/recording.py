@@ -3,7 +3,7 @@ its statistics, the chunks between ParaView frames.
 
 Every integrator records one row per kept step (COLUMNS, plus ENERGY when
 fem.energy is on) with ``keep``. Which steps are kept is the analytic
-stepper's RecordPlan (analytic/series.py): every ``stride``-th step, and every
+stepper's RecordPlan (core/series.py): every ``stride``-th step, and every
 step of the last ``full`` steps (the averaging window of F_dv and the plotted
 cycles). A run that may stop early (steady.py) does not know in advance which
 steps are its last ones, so the most recent ``full`` rows are kept in a ring
@@ -19,8 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..analytic.series import COLUMNS as SERIES_COLUMNS
-from ..analytic.series import RecordPlan
+from ..core.series import COLUMNS as SERIES_COLUMNS
+from ..core.series import RecordPlan
 from . import trouble
 from .steady import settled
 

@@ -4,7 +4,8 @@ import math
 import time
 from dataclasses import dataclass, field
 
-from ..analytic.series import (NumericalError, RecordPlan, TimeSeries, averaging_steps,
+from ..core.errors import NumericalError
+from ..core.series import (RecordPlan, TimeSeries, averaging_steps,
                                full_resolution_steps)
 from ..meshes import level_counts
 from . import integrators
@@ -14,7 +15,7 @@ from .recording import extra_columns
 
 # A run whose summed normal force leaves F_N (1 +- STEADY_NORMAL) over the
 # averaging window (the last time.average_cycles cycles, which F_dv comes from)
-# is ringing on its contact (spec/model.md "Traps measured": 44-69 N instead of
+# is ringing on its contact (docs/model.md "Traps measured": 44-69 N instead of
 # 55 N, with a drive force 25% off): wrong, not physics, and refused.
 # What a sound run shows: the in-plane friction moves the summed normal force
 # only through the block's vertical inertia, a forced response at harmonics of
@@ -30,7 +31,7 @@ STEADY_NORMAL = 0.01
 class FEResult:
     """One FE run.
 
-    series  analytic.series.TimeSeries: t, F_d, F_x, F_y (summed nodal friction
+    series  core.series.TimeSeries: t, F_d, F_x, F_y (summed nodal friction
             force, paper sign), x, y (attachment nodes' mean displacement since
             the preload), x_b, y_b, and extra["F_n"] (summed normal reaction),
             with fem.energy also extra[recording.ENERGY]; the rows the analytic
@@ -58,7 +59,7 @@ def _communicator(comm):
 
 
 def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
-    """Run the scene's finite-element model (spec/model.md section 5).
+    """Run the scene's finite-element model (docs/model.md section 5).
 
     comm     an MPI communicator of one process (default MPI.COMM_SELF)
     vtk_dir  if given and fem.output_every > 0: write vtk_dir/block.pvd, a frame

@@ -1,7 +1,7 @@
 """Early steady state: stop a run once its cycle-averaged drive force has settled.
 
 F_dv is the mean drive force over the averaging window: the last W =
-analytic.series.averaging_steps(scene) steps, whole vibration cycles (eqs
+core.series.averaging_steps(scene) steps, whole vibration cycles (eqs
 40-41). At every cycle boundary after the vibration has started and a whole
 window has run since, the window mean
 
@@ -29,7 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..analytic.series import averaging_steps
+from ..core.series import averaging_steps
 
 # ints[]: the detector's integer state; floats[]: its real state.
 CYCLE, SEEN, MEANS, STOPPED = range(4)

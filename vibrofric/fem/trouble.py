@@ -1,6 +1,6 @@
 """Numerical trouble: what every integrator checks after each step, and what it says.
 
-A run in trouble stops at once and is reported as analytic.series.NumericalError
+A run in trouble stops at once and is reported as core.errors.NumericalError
 naming the time, the step and what went wrong, with a hint for the scene.
 """
 
@@ -8,7 +8,7 @@ import math
 
 from numba import njit
 
-from ..analytic.series import NumericalError
+from ..core.errors import NumericalError
 
 # Codes returned by the time loops, and what they mean.
 OK, NOT_FINITE, FRICTION_DIVERGED, NORMAL_BLOWUP, LIFT_OFF, NOT_CONVERGED = range(6)

@@ -7,7 +7,7 @@ its length ``s = |d|`` and direction ``e = d / s`` (the paper's Table 1 carries
 the same as s and the angle beta). The friction force the paper reports is ``F = k s e``
 (eq 1, eqs 38-39) along ``e = d / s``; it acts on the body as ``-F``.
 
-A time step has two phases (paper section 2, spec/model.md section 2):
+A time step has two phases (paper section 2, docs/model.md section 2):
 
 phase 1 (eqs 18-22)
     the body end moves by the slip increment (body minus base) while M stays;

@@ -1,15 +1,15 @@
 """The analytic stepper over a grid of scene values, in memory, on both cores.
 
 For scripts, tests and benchmarks: results come back as a list and nothing is
-written. ``vibrofric sweep`` goes through vibrofric.batch instead, which
+written. ``vibrofric sweep`` goes through study.run_sweep instead, which
 writes each point as it ends and resumes an interrupted sweep.
 """
 
 from tqdm import tqdm
 
+from ..analytic.run import run
 from ..grid import grid_points
 from ..parallel import default_workers, run_on_pool
-from .run import run
 
 
 def run_point(scene, values: dict) -> dict:

@@ -14,10 +14,6 @@ COLUMNS = ("t", "F_d", "F_x", "F_y", "x", "y", "x_b", "y_b")
 PLOT_CYCLES = 4  # cycles shown at full resolution in the F_x, F_y plot
 
 
-class NumericalError(RuntimeError):
-    """A run whose numbers went wrong (NaN, a diverging update); never written as results."""
-
-
 @dataclass
 class TimeSeries:
     """Columns of COLUMNS, each an array over the kept steps.
