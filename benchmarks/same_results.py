@@ -1,0 +1,65 @@
+"""Record, or compare with a recording, the time series of the shipped scenes.
+
+A restructuring of the code must leave every number as it was. Run this before
+the change with ``--record FILE`` and after it with ``--compare FILE``: it runs
+every shipped scene with the analytic stepper and, on the coarse mesh for
+0.16 s (vibration from 0.14 s, 10 averaged cycles), with each FE integrator,
+and compares every recorded column bit for bit (numpy.array_equal).
+
+    .venv/bin/python benchmarks/same_results.py --record /tmp/before.npz
+    (change the code)
+    .venv/bin/python benchmarks/same_results.py --compare /tmp/before.npz
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from vibrofric import scene as scene_module
+from vibrofric.analytic.run import run
+from vibrofric.fem import run_fe
+
+SCENES = Path(__file__).resolve().parent.parent / "scenes"
+FE_SETTINGS = {"time.T": 0.16, "time.average_cycles": 10, "fem.output_every": 0}
+INTEGRATOR_STEPS = {"explicit": 1e-6, "implicit": 1e-5, "reduced": 1e-5}
+
+
+def series() -> dict:
+    """Every time series, by name: ``<scene>/analytic`` and ``<scene>/<integrator>``."""
+    out = {}
+    for path in sorted(SCENES.glob("*.toml")):
+        scene = scene_module.load(path)
+        out[f"{path.stem}/analytic"] = run(scene)[0].table()
+        for integrator, dt in INTEGRATOR_STEPS.items():
+            fe_scene = scene.with_values({**FE_SETTINGS, "fem.integrator": integrator,
+                                          "time.dt": dt})
+            out[f"{path.stem}/{integrator}"] = run_fe(fe_scene).series.table()
+            print(f"{path.stem} {integrator}: {out[f'{path.stem}/{integrator}'].shape[0]} rows",
+                  file=sys.stderr)
+    return out
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    action = parser.add_mutually_exclusive_group(required=True)
+    action.add_argument("--record", type=Path)
+    action.add_argument("--compare", type=Path)
+    args = parser.parse_args()
+    now = series()
+    if args.record:
+        np.savez(args.record, **{name.replace("/", "__"): table for name, table in now.items()})
+        print(f"recorded {len(now)} series in {args.record}")
+        return 0
+    before = np.load(args.compare)
+    differ = [name for name, table in now.items()
+              if not np.array_equal(before[name.replace("/", "__")], table)]
+    for name in now:
+        print(f"{name:24s} {'DIFFERS' if name in differ else 'identical'}")
+    print(f"{len(now) - len(differ)} of {len(now)} series bit-identical")
+    return 1 if differ else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
