@@ -31,6 +31,8 @@ Arrays are indexed like DOLFINx's blocked vector space: node d carries the
 degrees of freedom 3 d + c, c = 0, 1, 2 for X, Y, Z.
 """
 
+import sys
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -38,8 +40,16 @@ from .. import meshes
 
 
 def _dolfinx():
-    """Import and return (dolfinx, ufl, PETSc), mpi4py.MPI first."""
+    """Import and return (dolfinx, ufl, PETSc), mpi4py.MPI first.
+
+    PETSc starts without its own signal handlers: those of recent releases end
+    the process on SIGTERM, before Python's handler (a sweep's orderly stop)
+    could run.
+    """
     from mpi4py import MPI  # noqa: F401  (before dolfinx: the wheel's libmpi)
+    if "petsc4py.PETSc" not in sys.modules:
+        import petsc4py
+        petsc4py.init(["-no_signal_handler"])  # the program name is added
     import dolfinx
     import dolfinx.fem
     import dolfinx.fem.petsc  # noqa: F401  (0.5 loads it with dolfinx.fem; 0.9+ needs it)

@@ -5,8 +5,9 @@ Z points up and the contact face is z = 0. It is meshed with nx x ny x nz
 first-order hexahedra (8 nodes, transfinite and recombined), and its six faces
 are physical groups whose tags are the module constants below.
 
-gmsh is imported only while a mesh is built or read: importing it resets
-Ctrl-C (SIGINT) to the default handler until ``gmsh.finalize()``. This package
+gmsh is imported only while a mesh is built or read. gmsh 4.8 resets Ctrl-C
+(SIGINT) to the default handler until ``gmsh.finalize()``, newer versions also
+SIGTERM, for good: ``gmsh_model`` puts Python's handlers back. This package
 never imports DOLFINx: ``vibrofric.fem.dolfinx_adapter.load_block`` turns the
 cached file into a DOLFINx mesh.
 """
@@ -14,6 +15,8 @@ cached file into a DOLFINx mesh.
 import contextlib
 import os
 import re
+import signal
+import threading
 import uuid
 from pathlib import Path
 
@@ -90,8 +93,10 @@ def gmsh_model(name: str):
     """Yield the gmsh module with a new, empty, silent model ``name`` current.
 
     Initializes gmsh if needed and finalizes it afterwards only in that case,
-    so that a caller's own gmsh session survives; the model is removed.
+    so that a caller's own gmsh session survives; the model is removed. The
+    Ctrl-C and SIGTERM handlers are Python's again afterwards.
     """
+    handlers = _signal_handlers()
     import gmsh
 
     owner = not _gmsh_initialized(gmsh)
@@ -112,6 +117,15 @@ def gmsh_model(name: str):
         else:
             gmsh.model.setCurrent(previous_model)
             gmsh.option.setNumber("General.Terminal", previous_terminal)
+        for number, handler in handlers.items():
+            signal.signal(number, handler)
+
+
+def _signal_handlers() -> dict:
+    """Python's SIGINT and SIGTERM handlers ({} outside the main thread, which cannot set them)."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    return {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
 
 
 def _gmsh_initialized(gmsh) -> bool:
