@@ -4,6 +4,10 @@
 #               the slow FE cases too: ~7 min on two cores; "make test-fast"
 #               runs the default selection, ~2 min)
 # Both are idempotent: a second call installs nothing.
+#
+# The current DOLFINx (PyPI dolfinx-solver-real) runs beside Debian's 0.5.2:
+#   make setup-latest  a second venv, .venv-latest, on Python >= 3.12
+#   make test-latest   the default test selection there (FE included)
 
 VENV    ?= .venv
 PY      := $(VENV)/bin/python
@@ -11,7 +15,16 @@ DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-matplotlib p
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEMO_OUT ?= results/demo
 
-.PHONY: demo test test-fast bench bench-full setup clean clean-cache
+VENV_LATEST ?= .venv-latest
+PY_LATEST   := $(VENV_LATEST)/bin/python
+# Interpreters tried for the second stack, first match >= 3.12 wins (Debian
+# bookworm has only 3.11); without one, uv (from PyPI) downloads a CPython 3.12
+# build (python-build-standalone, from GitHub), else setup-latest stops and says so.
+PYTHONS_LATEST ?= python3.12 $(HOME)/.pyenv/versions/3.12*/bin/python python3.13 \
+                  $(HOME)/.pyenv/versions/3.13*/bin/python
+UV_VENV     := .venv-uv
+
+.PHONY: demo test test-fast test-latest bench bench-full setup setup-latest clean clean-cache
 
 # The paper's Fig 7 scene (longitudinal, k_v = 6) to 0.3 s, FE and analytic
 # (--force: a second make demo replaces the first one's results).
@@ -24,6 +37,9 @@ test: $(VENV)/.installed
 test-fast: $(VENV)/.installed
 	$(PY) -m pytest -q
 
+test-latest: $(VENV_LATEST)/.installed
+	$(PY_LATEST) -m pytest -q
+
 # Speed against error of every method (README "Choosing settings"), then the
 # analytic stepper's own timings (benchmarks/).
 bench: $(VENV)/.installed
@@ -34,6 +50,8 @@ bench-full: $(VENV)/.installed
 	$(VENV)/bin/vibrofric bench --out results/bench-full --force
 
 setup: $(VENV)/.installed
+
+setup-latest: $(VENV_LATEST)/.installed
 
 # Debian's packages: DOLFINx 0.5 and everything built against it (numpy,
 # numba, scipy, petsc4py, mpi4py) live under /usr/bin/python3.
@@ -58,9 +76,46 @@ $(VENV)/.installed: $(VENV)/.debs pyproject.toml
 	$(PY) -m pip install -q -c $(VENV)/constraints.txt -e '.[test]'
 	touch $@
 
+# The current DOLFINx from PyPI: dolfinx-solver-real brings DOLFINx with real
+# PETSc, petsc4py, mpi4py and MPICH (its own mpirun in $(VENV_LATEST)/bin; never
+# install PyPI petsc4py beside it); pip picks numpy, numba and scipy to fit.
+# ffcx compiles the forms with the C compiler (gcc).
+$(VENV_LATEST)/.installed: pyproject.toml
+	@missing=""; for p in python3-venv gcc; do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing Debian packages:$$missing"; \
+	  $(SUDO) apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+	@if [ ! -x $(PY_LATEST) ]; then \
+	  python=""; for p in $(PYTHONS_LATEST); do \
+	    if command -v $$p >/dev/null 2>&1 && \
+	       $$p -c 'import sys, venv; sys.exit(sys.version_info < (3, 12))' 2>/dev/null; then \
+	      python=$$p; break; \
+	    fi; \
+	  done; \
+	  if [ -z "$$python" ]; then \
+	    echo "no Python >= 3.12 here: installing one with uv"; \
+	    /usr/bin/python3 -m venv $(UV_VENV) && $(UV_VENV)/bin/pip install -q uv && \
+	    $(UV_VENV)/bin/uv python install 3.12 && \
+	    python=$$($(UV_VENV)/bin/uv python find 3.12) || { \
+	      echo "make setup-latest: no Python >= 3.12 (tried: $(PYTHONS_LATEST)) and uv could" \
+	           "not download one: install one, or name it with PYTHONS_LATEST=/path/to/python3.12" >&2; \
+	      exit 1; }; \
+	  fi; \
+	  echo "$(VENV_LATEST) from $$python"; \
+	  $$python -m venv $(VENV_LATEST) || exit 1; \
+	fi
+	$(PY_LATEST) -m pip install -q dolfinx-solver-real gmsh meshio -e '.[test]'
+	$(PY_LATEST) -c "import mpi4py.MPI, dolfinx, numba, numpy, gmsh; \
+	  print(f'$(VENV_LATEST): DOLFINx {dolfinx.__version__}, numpy {numpy.__version__}, numba {numba.__version__}, gmsh {gmsh.__version__}')"
+	touch $@
+
 # numba's cache does not see edits to functions compiled into other files
 clean-cache:
 	find vibrofric -name '*.nbi' -delete -o -name '*.nbc' -delete
 
 clean: clean-cache
-	rm -rf $(VENV) results .pytest_cache
+	rm -rf $(VENV) $(VENV_LATEST) $(UV_VENV) results .pytest_cache

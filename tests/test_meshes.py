@@ -155,30 +155,3 @@ def test_a_callers_gmsh_session_survives(tmp_path):
         assert gmsh.model.getCurrent() == "callers"  # fails if gmsh was finalized
     finally:
         gmsh.finalize()
-
-
-@pytest.mark.parametrize("level", ["coarse", "2x3x4"])
-def test_load_block_in_dolfinx(level, tmp_path, monkeypatch):
-    dolfinx = pytest.importorskip("dolfinx")
-    import ufl
-    from mpi4py import MPI
-
-    monkeypatch.setenv("VIBROFRIC_CACHE", str(tmp_path))
-    comm = MPI.COMM_WORLD if level == "coarse" else MPI.COMM_SELF
-    mesh, facet_tags = meshes.load_block(comm, meshes.DEFAULT_SIZE, level)
-    counts = meshes.level_counts(level)
-    size = meshes.DEFAULT_SIZE
-
-    assert mesh.topology.cell_type == dolfinx.mesh.CellType.hexahedron
-    assert comm.allreduce(mesh.topology.index_map(3).size_local) == np.prod(counts)
-    volume = dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * ufl.dx(domain=mesh)))
-    assert comm.allreduce(volume) == pytest.approx(np.prod(size), rel=1e-12)
-
-    assert facet_tags.dim == 2
-    owned = mesh.topology.index_map(2).size_local
-    for tag, (axis, far) in PLANES.items():
-        facets = facet_tags.find(tag)
-        facets = facets[facets < owned]
-        assert comm.allreduce(len(facets)) == np.prod(np.delete(counts, axis))
-        midpoints = dolfinx.mesh.compute_midpoints(mesh, 2, facets)
-        assert np.allclose(midpoints[:, axis], size[axis] if far else 0.0, rtol=0, atol=1e-12)

@@ -1,9 +1,11 @@
-"""The finite-element model: an elastic block on a vibrating rigid base (DOLFINx 0.5).
+"""The finite-element model: an elastic block on a vibrating rigid base (DOLFINx 0.5.2 to 0.11).
 
 The open counterpart of the paper's Abaqus/Explicit model with a VFRIC
 friction subroutine (docs/model.md section 5). One physical idea per module:
 
-    assembly     the elastic block in DOLFINx: K (vector Q1), lumped mass, face areas
+    dolfinx_adapter  DOLFINx itself: mesh from gmsh, vector Q1 space, K, lumped mass,
+                 face areas, VTK frames (detects what the installed version offers)
+    assembly     the elastic block as arrays: K, lumped mass, face areas
     loads        gravity + top pressure, sized to the normal reaction F_N
     contact      penalty normal contact and the per-node friction law (VFRIC analogue)
     drive        the drive spring k_d and where it attaches
@@ -24,7 +26,7 @@ friction subroutine (docs/model.md section 5). One physical idea per module:
     paraview     the .pvd frame series (DOLFINx VTKFile)
     run          run_fe(scene, comm, vtk_dir) -> FEResult
 
-Only assembly and paraview import DOLFINx.
+Only dolfinx_adapter imports DOLFINx, UFL and petsc4py.
 """
 
 from .run import FEResult, run_fe

@@ -1,4 +1,5 @@
-"""ParaView output: a .pvd time series of the block's node fields (DOLFINx VTKFile).
+"""ParaView output: a .pvd time series of the block's node fields (DOLFINx VTKFile,
+through ``dolfinx_adapter.VTKSeries``).
 
 Every frame holds, on the mesh's Q1 nodes:
 
@@ -27,12 +28,12 @@ repaired right after it is written (``repair_frame``):
   ordered the same either way), which meshio (5.x) refuses: stamped "1.0".
 """
 
-import contextlib
 import re
-import signal
 from pathlib import Path
 
 import numpy as np
+
+from .dolfinx_adapter import VTKSeries
 
 FIELDS = ("displacement", "velocity", "contact_pressure", "friction_traction",
           "friction_force", "dahl_state", "slip")
@@ -60,59 +61,24 @@ def node_fields(model, state) -> dict:
     return out
 
 
-@contextlib.contextmanager
-def signals_deferred():
-    """Hold Ctrl-C and SIGTERM until the block is done. An interrupt raised
-    inside DOLFINx's writer would keep the writer alive in its traceback, and
-    its destructor would then write the .pvd again after a failed run's
-    directory was removed, recreating it."""
-    held = {signal.SIGINT, signal.SIGTERM}
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
-
-
 class FrameWriter:
     """Writes ``vtk_dir/block.pvd`` (+ .vtu per frame); call with a recording.State."""
 
     def __init__(self, model, comm, vtk_dir):
-        from dolfinx import fem, io
-
         self.model = model
-        V = model.disc.space
-        Q, q_to_v = V.sub(0).collapse()
-        self.q_nodes = np.asarray(q_to_v) // 3  # Q dof j sits on node q_to_v[j] // 3
-        self.vectors = {name: fem.Function(V, name=name) for name in FIELDS
-                        if name != "contact_pressure"}
-        self.pressure = fem.Function(Q, name="contact_pressure")
         self.path = Path(vtk_dir) / "block.pvd"
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        with signals_deferred():
-            self.file = io.VTKFile(comm, str(self.path), "w")
+        self.series = VTKSeries(model.disc.space, comm, self.path, FIELDS,
+                                scalars=("contact_pressure",))
         self.frames = 0
 
     def __call__(self, state) -> None:
-        values = node_fields(self.model, state)
-        for name, function in self.vectors.items():
-            function.x.array[:] = values[name].ravel()
-        self.pressure.x.array[:] = values["contact_pressure"][self.q_nodes]
-        with signals_deferred():
-            self.file.write_function([self.vectors["displacement"], self.vectors["velocity"],
-                                      self.pressure] + [self.vectors[name] for name in FIELDS[3:]],
-                                     state.t)
+        self.series.write(node_fields(self.model, state), state.t)
         repair_frame(self.path.parent / f"{self.path.stem}{self.frames:06d}.pvtu")
         self.frames += 1
 
     def close(self) -> None:
-        """Write the .pvd and let DOLFINx's writer go at once: its destructor
-        writes the .pvd again (creating its directory if need be), which must
-        happen before a failed run's directory is removed, not after."""
-        if self.file is not None:
-            with signals_deferred():
-                self.file.close()
-                self.file = None
+        self.series.close()
 
 
 def repair_frame(pvtu: Path) -> None:

@@ -2,8 +2,8 @@
 
 from .block import (BACK, BLOCK, CONTACT, DEFAULT_SIZE, FACES, FRONT, LEFT, LEVELS, RIGHT,
                     TOP, block_mesh_file, block_mesh_model, default_cache_dir, describe,
-                    level_counts, load_block)
+                    gmsh_model, level_counts)
 
 __all__ = ["BACK", "BLOCK", "CONTACT", "DEFAULT_SIZE", "FACES", "FRONT", "LEFT", "LEVELS",
            "RIGHT", "TOP", "block_mesh_file", "block_mesh_model", "default_cache_dir",
-           "describe", "level_counts", "load_block"]
+           "describe", "gmsh_model", "level_counts"]

@@ -5,14 +5,18 @@ Z points up and the contact face is z = 0. It is meshed with nx x ny x nz
 first-order hexahedra (8 nodes, transfinite and recombined), and its six faces
 are physical groups whose tags are the module constants below.
 
-gmsh is imported only while a mesh is built or read: importing it resets
-Ctrl-C (SIGINT) to the default handler until ``gmsh.finalize()``. DOLFINx is
-imported only by ``load_block``.
+gmsh is imported only while a mesh is built or read. gmsh 4.8 resets Ctrl-C
+(SIGINT) to the default handler until ``gmsh.finalize()``, newer versions also
+SIGTERM, for good: ``gmsh_model`` puts Python's handlers back. This package
+never imports DOLFINx: ``vibrofric.fem.dolfinx_adapter.load_block`` turns the
+cached file into a DOLFINx mesh.
 """
 
 import contextlib
 import os
 import re
+import signal
+import threading
 import uuid
 from pathlib import Path
 
@@ -88,12 +92,14 @@ def _checked_size(size) -> tuple:
 
 
 @contextlib.contextmanager
-def _gmsh_model(name: str):
+def gmsh_model(name: str):
     """Yield the gmsh module with a new, empty, silent model ``name`` current.
 
     Initializes gmsh if needed and finalizes it afterwards only in that case,
-    so that a caller's own gmsh session survives; the model is removed.
+    so that a caller's own gmsh session survives; the model is removed. The
+    Ctrl-C and SIGTERM handlers are Python's again afterwards.
     """
+    handlers = _signal_handlers()
     import gmsh
 
     owner = not _gmsh_initialized(gmsh)
@@ -114,6 +120,15 @@ def _gmsh_model(name: str):
         else:
             gmsh.model.setCurrent(previous_model)
             gmsh.option.setNumber("General.Terminal", previous_terminal)
+        for number, handler in handlers.items():
+            signal.signal(number, handler)
+
+
+def _signal_handlers() -> dict:
+    """Python's SIGINT and SIGTERM handlers ({} outside the main thread, which cannot set them)."""
+    if threading.current_thread() is not threading.main_thread():
+        return {}
+    return {number: signal.getsignal(number) for number in (signal.SIGINT, signal.SIGTERM)}
 
 
 def _gmsh_initialized(gmsh) -> bool:
@@ -140,7 +155,7 @@ def block_mesh_model(size=DEFAULT_SIZE, level: str = "coarse"):
     """
     Lx, Ly, Lz = lengths = _checked_size(size)
     counts = level_counts(level)
-    with _gmsh_model("vibrofric-block") as gmsh:
+    with gmsh_model("vibrofric-block") as gmsh:
         occ, model = gmsh.model.occ, gmsh.model
         volume = occ.addBox(0.0, 0.0, 0.0, Lx, Ly, Lz)
         occ.synchronize()
@@ -201,34 +216,3 @@ def block_mesh_file(size=DEFAULT_SIZE, level: str = "coarse", cache_dir=None) ->
     finally:
         tmp.unlink(missing_ok=True)
     return path
-
-
-def load_block(comm, size=DEFAULT_SIZE, level: str = "coarse", rank: int = 0):
-    """Return (mesh, facet_tags): the block as a distributed DOLFINx mesh.
-
-    Rank ``rank`` of ``comm`` makes or finds the cached .msh file and reads it
-    through gmsh; DOLFINx then distributes the mesh over ``comm``. The facet
-    MeshTags carry CONTACT ... RIGHT.
-
-    (DOLFINx 0.5.2's ``gmshio.read_from_msh`` cannot be used: it ends in a
-    NameError. This does what it means to do.)
-    """
-    from dolfinx.io import gmshio
-
-    if comm.rank != rank:
-        error = comm.bcast(None, root=rank)
-        if error is not None:
-            raise error
-        mesh, _, facet_tags = gmshio.model_to_mesh(None, comm, rank, gdim=3)
-        return mesh, facet_tags
-
-    try:
-        path = block_mesh_file(size, level)
-    except Exception as error:
-        comm.bcast(error, root=rank)
-        raise
-    comm.bcast(None, root=rank)
-    with _gmsh_model("vibrofric-load") as gmsh:
-        gmsh.merge(str(path))
-        mesh, _, facet_tags = gmshio.model_to_mesh(gmsh.model, comm, rank, gdim=3)
-    return mesh, facet_tags

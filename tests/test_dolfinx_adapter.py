@@ -1,0 +1,180 @@
+"""What the DOLFINx adapter returns, pinned independently of DOLFINx.
+
+One hexahedron's stiffness and lumped mass against the Q1 element matrices
+written out below in numpy (2x2x2 Gauss quadrature, exact for a rectangular
+box), the face areas, the mesh itself, and the coarse mesh's first
+eigenfrequencies against stored values.
+"""
+
+import itertools
+
+import numpy as np
+import pytest
+
+pytest.importorskip("mpi4py")
+from mpi4py import MPI  # noqa: E402  (before dolfinx: the PyPI wheel's libmpi)
+
+pytest.importorskip("dolfinx")
+
+from vibrofric import meshes  # noqa: E402
+from vibrofric.fem import dolfinx_adapter as adapter  # noqa: E402
+
+E, NU, RHO = 210e9, 0.3, 7850.0  # steel
+SIZE = meshes.DEFAULT_SIZE       # 30 x 40 x 53 mm: three different edges
+PLANES = {tag: (axis, far) for tag, (_, axis, far) in meshes.FACES.items()}
+
+
+@pytest.fixture(autouse=True)
+def _own_mesh_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("VIBROFRIC_CACHE", str(tmp_path))
+
+
+def q1_hexahedron(size, corners, E, nu, rho):
+    """Stiffness (24, 24) and row-sum mass (24,) of one trilinear box element.
+
+    ``corners`` (8, 3) are the node positions in the order wanted; the box is
+    [0, a] x [0, b] x [0, c]. N_i = prod_k (1 + s_ik xi_k) / 2 with s_ik = +-1
+    the corner's side, xi in [-1, 1]^3; x_k = (1 + xi_k) L_k / 2, so
+    dN_i/dx_k = (2 / L_k) dN_i/dxi_k and dV = (a b c / 8) dxi. Voigt order
+    (xx, yy, zz, yz, xz, xy) with engineering shear strains.
+    """
+    L = np.asarray(size, dtype=float)
+    signs = np.where(corners > L / 2, 1.0, -1.0)
+    lame = E * nu / ((1 + nu) * (1 - 2 * nu))
+    shear = E / (2 * (1 + nu))
+    D = np.zeros((6, 6))
+    D[:3, :3] = lame
+    D[np.arange(3), np.arange(3)] += 2 * shear
+    D[np.arange(3, 6), np.arange(3, 6)] = shear
+    K = np.zeros((24, 24))
+    mass = np.zeros(24)
+    gauss = np.array([-1.0, 1.0]) / np.sqrt(3.0)  # 2-point rule, weights 1
+    for xi in itertools.product(gauss, repeat=3):
+        xi = np.array(xi)
+        factors = (1 + signs * xi) / 2                       # (8, 3)
+        N = factors.prod(axis=1)
+        grad = np.empty((8, 3))
+        for k in range(3):
+            others = np.delete(factors, k, axis=1).prod(axis=1)
+            grad[:, k] = signs[:, k] / 2 * others * 2 / L[k]
+        B = np.zeros((6, 24))
+        for i in range(8):
+            gx, gy, gz = grad[i]
+            B[:, 3 * i:3 * i + 3] = [[gx, 0, 0], [0, gy, 0], [0, 0, gz],
+                                     [0, gz, gy], [gz, 0, gx], [gy, gx, 0]]
+        dV = L.prod() / 8
+        K += B.T @ D @ B * dV
+        mass += rho * np.repeat(N, 3) * dV  # sum_j N_i N_j = N_i
+    return K, mass
+
+
+@pytest.fixture(scope="module")
+def one_hexahedron(tmp_path_factory):
+    mp = pytest.MonkeyPatch()
+    mp.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
+    try:
+        mesh, facet_tags = adapter.load_block(MPI.COMM_SELF, SIZE, "tiny")
+    finally:
+        mp.undo()
+    V = adapter.vector_space(mesh)
+    return dict(K=adapter.stiffness(V, E, NU).toarray(), mass=adapter.lumped_mass(V, RHO),
+                X=adapter.node_coordinates(V),
+                areas=adapter.face_areas(V, facet_tags, list(meshes.FACES)),
+                volume=adapter.volume(mesh))
+
+
+def test_one_hexahedron_is_the_q1_element(one_hexahedron):
+    """K and M equal the closed-form element to rounding: both integrate the
+    same polynomials exactly, so only summation order differs (1e-12 of the
+    largest entry is ~1e4 ulps of room, and far below any wrong term)."""
+    X = one_hexahedron["X"]
+    assert X.shape == (8, 3)
+    K_ref, mass_ref = q1_hexahedron(SIZE, X, E, NU, RHO)
+    K = one_hexahedron["K"]
+    assert np.abs(K - K_ref).max() <= 1e-12 * np.abs(K_ref).max()
+    assert np.allclose(one_hexahedron["mass"], mass_ref, rtol=1e-12, atol=0)
+
+
+def test_one_hexahedron_stiffness_has_the_rigid_motions_as_null_space(one_hexahedron):
+    """Symmetric; the 3 translations and 3 rotations cost no energy, and
+    nothing else does (rank 24 - 6 = 18). Relative 1e-12: rounding."""
+    K, X = one_hexahedron["K"], one_hexahedron["X"]
+    scale = np.abs(K).max()
+    assert np.abs(K - K.T).max() <= 1e-12 * scale
+    rigid = []
+    for axis in range(3):
+        translation = np.zeros((8, 3))
+        translation[:, axis] = 1.0
+        rigid.append(translation.ravel())
+        rotation = np.cross(np.eye(3)[axis], X)  # omega x r
+        rigid.append(rotation.ravel())
+    rigid = np.array(rigid).T
+    assert np.abs(K @ rigid).max() <= 1e-12 * scale * np.abs(rigid).max()
+    eigenvalues = np.linalg.eigvalsh(K)
+    assert np.all(eigenvalues[:6] < 1e-10 * eigenvalues[-1])
+    assert np.all(eigenvalues[6:] > 1e-3 * eigenvalues[-1])
+
+
+def test_one_hexahedron_mass_and_face_areas(one_hexahedron):
+    """Each node carries an eighth of rho V on each component, an area
+    quarter of each of its three faces (exact to rounding)."""
+    volume = np.prod(SIZE)
+    assert one_hexahedron["volume"] == pytest.approx(volume, rel=1e-14)
+    assert np.allclose(one_hexahedron["mass"], RHO * volume / 8, rtol=1e-13, atol=0)
+    X = one_hexahedron["X"]
+    for tag, (axis, far) in PLANES.items():
+        area = one_hexahedron["areas"][tag]
+        on_face = np.isclose(X[:, axis], SIZE[axis] if far else 0.0)
+        face = np.prod(np.delete(SIZE, axis))
+        assert on_face.sum() == 4
+        assert np.allclose(area[on_face], face / 4, rtol=1e-13, atol=0)
+        assert np.all(area[~on_face] == 0.0)
+
+
+@pytest.mark.parametrize("level", ["coarse", "2x3x4"])
+def test_load_block_gives_the_tagged_hexahedral_block(level):
+    import dolfinx
+    comm = MPI.COMM_WORLD if level == "coarse" else MPI.COMM_SELF
+    mesh, facet_tags = adapter.load_block(comm, SIZE, level)
+    counts = meshes.level_counts(level)
+
+    assert mesh.topology.cell_type == dolfinx.mesh.CellType.hexahedron
+    assert comm.allreduce(mesh.topology.index_map(3).size_local) == np.prod(counts)
+    assert comm.allreduce(adapter.volume(mesh)) == pytest.approx(np.prod(SIZE), rel=1e-12)
+
+    assert facet_tags.dim == 2
+    mesh.topology.create_connectivity(2, 3)
+    owned = mesh.topology.index_map(2).size_local
+    for tag, (axis, far) in PLANES.items():
+        facets = facet_tags.find(tag)
+        facets = facets[facets < owned]
+        assert comm.allreduce(len(facets)) == np.prod(np.delete(counts, axis))
+        midpoints = dolfinx.mesh.compute_midpoints(mesh, 2, facets)
+        assert np.allclose(midpoints[:, axis], SIZE[axis] if far else 0.0, rtol=0, atol=1e-12)
+
+
+# The coarse block's (4x5x7 hexahedra, 720 DOFs) first elastic eigenfrequencies,
+# steel, free, lumped mass, Hz: computed once with this adapter on DOLFINx 0.5.2
+# (Debian) and confirmed on 0.11 (PyPI) to ~1e-13. A regression pin: they move
+# if the element, the quadrature, the lumping, the material formulas or the
+# mesh change. Plausibility: the lowest mode of a free 30 x 40 x 53 mm steel
+# block is of the order of a half shear wave over its length,
+# c_s / (2 L) = 3200 m/s / 0.106 m ~ 30 kHz.
+COARSE_FREQUENCIES = [25218.21001868, 31934.85022298, 35734.49960561, 43677.31185015,
+                      45820.81511616, 45957.79907428]
+
+
+def test_coarse_mesh_eigenfrequencies():
+    """Six rigid modes at (numerically) zero, then the stored frequencies.
+    1e-9 relative: the stored values have 13 significant digits (their last is
+    ~1e-12 relative) and dense symmetric eigenvalues of a 720-DOF problem are
+    accurate to ~1e-13 of the largest; 1e-9 is far tighter than any change of
+    the discretization (a different quadrature or lumping moves them by %)."""
+    mesh, _ = adapter.load_block(MPI.COMM_SELF, SIZE, "coarse")
+    V = adapter.vector_space(mesh)
+    K = adapter.stiffness(V, E, NU).toarray()
+    scale = 1 / np.sqrt(adapter.lumped_mass(V, RHO))
+    omega2 = np.linalg.eigvalsh(scale[:, None] * K * scale[None, :])
+    assert np.all(np.abs(omega2[:6]) < 1e-10 * omega2[-1])
+    frequencies = np.sqrt(omega2[6:12]) / (2 * np.pi)
+    assert np.allclose(frequencies, COARSE_FREQUENCIES, rtol=1e-9, atol=0)

@@ -1,0 +1,231 @@
+"""DOLFINx behind one door: mesh from gmsh, vector Q1 space, K, lumped M, face areas, VTK frames.
+
+The only module that imports DOLFINx, UFL, petsc4py and DOLFINx's gmsh bridge.
+Everything it returns is plain numpy / scipy, except the mesh and space handles
+that only come back in here (and the frame writer below). It runs on DOLFINx
+0.5.2 (Debian bookworm) through 0.11 (PyPI ``dolfinx-solver-real``,
+conda-forge, the Docker images) by detecting what the installed version
+offers, never by reading its version string:
+
+    vector P1 space   fem.functionspace(mesh, ("Lagrange", 1, (3,)))  (0.8+)
+                      else fem.VectorFunctionSpace(mesh, ("Lagrange", 1))
+    gmsh bridge       dolfinx.io.gmsh (0.10+) else dolfinx.io.gmshio; its
+                      model_to_mesh returns a MeshData object (0.10+) or a
+                      (mesh, cell_tags, facet_tags) tuple
+    PETSc assembly    dolfinx.fem.petsc, imported explicitly (0.9+ needs it)
+
+mpi4py.MPI is imported before DOLFINx: the PyPI wheel finds its MPI library
+only once mpi4py has loaded it.
+
+The block is linear elastic (small strains), vector Q1 (trilinear Lagrange) on
+hexahedra:
+
+    stiffness   K_ij = int_V  sigma(phi_j) : eps(phi_i) dV,
+                sigma(u) = 2 G eps(u) + lambda tr(eps(u)) I,  eps(u) = sym(grad u)
+                G = E / (2 (1 + nu)),  lambda = E nu / ((1 + nu)(1 - 2 nu))
+    lumped mass m_i = sum_j int_V rho phi_i . phi_j dV = int_V rho phi_i dV
+                (row sums; on Q1 hexahedra all positive and summing to rho V)
+    face areas  a_i = int_face phi_i dA  (each node's tributary area on a face)
+
+Arrays are indexed like DOLFINx's blocked vector space: node d carries the
+degrees of freedom 3 d + c, c = 0, 1, 2 for X, Y, Z.
+"""
+
+import contextlib
+import signal
+import sys
+
+import numpy as np
+import scipy.sparse as sp
+
+from .. import meshes
+
+
+def _dolfinx():
+    """Import and return (dolfinx, ufl, PETSc), mpi4py.MPI first.
+
+    PETSc starts without its own signal handlers: those of recent releases end
+    the process on SIGTERM, before Python's handler (a sweep's orderly stop)
+    could run.
+    """
+    from mpi4py import MPI  # noqa: F401  (before dolfinx: the wheel's libmpi)
+    if "petsc4py.PETSc" not in sys.modules:
+        import petsc4py
+        petsc4py.init(["-no_signal_handler"])  # the program name is added
+    import dolfinx
+    import dolfinx.fem
+    import dolfinx.fem.petsc  # noqa: F401  (0.5 loads it with dolfinx.fem; 0.9+ needs it)
+    import dolfinx.io
+    import ufl
+    from petsc4py import PETSc
+    return dolfinx, ufl, PETSc
+
+
+def _model_to_mesh(model, comm, rank):
+    """(mesh, facet_tags) from a gmsh model on ``rank`` (None on the other ranks)."""
+    try:
+        from dolfinx.io import gmsh as bridge  # 0.10+
+    except ImportError:
+        from dolfinx.io import gmshio as bridge  # 0.5 - 0.9
+    data = bridge.model_to_mesh(model, comm, rank, gdim=3)
+    if hasattr(data, "facet_tags"):  # 0.10+: MeshData
+        return data.mesh, data.facet_tags
+    mesh, _, facet_tags = data
+    return mesh, facet_tags
+
+
+def load_block(comm, size=meshes.DEFAULT_SIZE, level: str = "coarse", rank: int = 0):
+    """Return (mesh, facet_tags): the block as a distributed DOLFINx mesh.
+
+    Rank ``rank`` of ``comm`` makes or finds the cached .msh file
+    (``meshes.block_mesh_file``) and reads it through gmsh; DOLFINx then
+    distributes the mesh over ``comm``. The facet tags are meshes.CONTACT ...
+    meshes.RIGHT. (DOLFINx 0.5.2's ``gmshio.read_from_msh`` ends in a NameError;
+    this does what it means to do.)
+    """
+    _dolfinx()
+    if comm.rank != rank:
+        error = comm.bcast(None, root=rank)
+        if error is not None:
+            raise error
+        return _model_to_mesh(None, comm, rank)
+
+    try:
+        path = meshes.block_mesh_file(size, level)
+    except Exception as error:
+        comm.bcast(error, root=rank)
+        raise
+    comm.bcast(None, root=rank)
+    with meshes.gmsh_model("vibrofric-load") as gmsh:
+        gmsh.merge(str(path))
+        return _model_to_mesh(gmsh.model, comm, rank)
+
+
+def vector_space(mesh):
+    """The vector (3 components) Q1 Lagrange space on ``mesh``."""
+    dolfinx, _, _ = _dolfinx()
+    fem = dolfinx.fem
+    if hasattr(fem, "functionspace"):  # 0.8+
+        return fem.functionspace(mesh, ("Lagrange", 1, (3,)))
+    return fem.VectorFunctionSpace(mesh, ("Lagrange", 1))
+
+
+def _to_csr(matrix) -> sp.csr_matrix:
+    """A PETSc AIJ matrix as scipy CSR, indices sorted."""
+    indptr, indices, data = matrix.getValuesCSR()
+    csr = sp.csr_matrix((data.copy(), indices.copy(), indptr.copy()), shape=matrix.getSize())
+    csr.sort_indices()
+    return csr
+
+
+def stiffness(V, E: float, nu: float) -> sp.csr_matrix:
+    """K of the linear elastic block (Young's modulus E, Poisson's ratio nu), scipy CSR."""
+    dolfinx, ufl, PETSc = _dolfinx()
+    fem, mesh = dolfinx.fem, V.mesh
+    # Material values enter as Constants, so that the compiled form (cached by
+    # FFCx on its symbolic content) is reused for every E and nu.
+    E_ = fem.Constant(mesh, PETSc.ScalarType(E))
+    nu_ = fem.Constant(mesh, PETSc.ScalarType(nu))
+    shear = E_ / (2.0 * (1.0 + nu_))                       # G (Lame mu)
+    lame = E_ * nu_ / ((1.0 + nu_) * (1.0 - 2.0 * nu_))   # Lame lambda
+
+    def strain(w):
+        return ufl.sym(ufl.grad(w))
+
+    def stress(w):
+        return 2.0 * shear * strain(w) + lame * ufl.tr(strain(w)) * ufl.Identity(3)
+
+    u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
+    matrix = fem.petsc.assemble_matrix(fem.form(ufl.inner(stress(u), strain(v)) * ufl.dx))
+    matrix.assemble()
+    K = _to_csr(matrix)
+    matrix.destroy()
+    return K
+
+
+def lumped_mass(V, density: float) -> np.ndarray:
+    """(3 nodes,) row sums of the consistent mass rho phi_i . phi_j, kg."""
+    dolfinx, ufl, PETSc = _dolfinx()
+    fem = dolfinx.fem
+    rho = fem.Constant(V.mesh, PETSc.ScalarType(density))
+    ones = ufl.as_vector((1.0, 1.0, 1.0))
+    # the action of the mass form on a field of ones
+    mass = fem.petsc.assemble_vector(fem.form(rho * ufl.inner(ones, ufl.TestFunction(V)) * ufl.dx))
+    return mass.array.copy()
+
+
+def face_areas(V, facet_tags, faces) -> dict:
+    """{tag: (nodes,) tributary area of each node on that tagged face}, m^2."""
+    dolfinx, ufl, _ = _dolfinx()
+    fem = dolfinx.fem
+    ds = ufl.Measure("ds", domain=V.mesh, subdomain_data=facet_tags)
+    ones, v = ufl.as_vector((1.0, 1.0, 1.0)), ufl.TestFunction(V)
+    areas = {}
+    for tag in faces:
+        area = fem.petsc.assemble_vector(fem.form(ufl.inner(ones, v) * ds(tag)))
+        areas[tag] = area.array[0::3].copy()  # the same for all three components
+    return areas
+
+
+def volume(mesh) -> float:
+    dolfinx, ufl, _ = _dolfinx()
+    return float(dolfinx.fem.assemble_scalar(dolfinx.fem.form(1.0 * ufl.dx(domain=mesh))))
+
+
+def node_coordinates(V) -> np.ndarray:
+    """(nodes, 3) positions of the space's nodes, in its own (owned) node order."""
+    coordinates = V.tabulate_dof_coordinates()[:, :3].copy()
+    assert coordinates.shape[0] == V.dofmap.index_map.size_local
+    return coordinates
+
+
+@contextlib.contextmanager
+def signals_held():
+    """Hold Ctrl-C and SIGTERM until the block is done. An interrupt raised
+    inside DOLFINx's VTK writer would keep the writer alive in its traceback,
+    and its destructor would then write the .pvd again after a failed run's
+    directory was removed, recreating it."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+class VTKSeries:
+    """A .pvd time series of node fields on the vector Q1 space ``V`` (DOLFINx VTKFile).
+
+    ``fields`` names the fields in the order they are written; those in
+    ``scalars`` are (nodes,) arrays, the others (nodes, 3).
+    """
+
+    def __init__(self, V, comm, path, fields, scalars=()):
+        dolfinx, _, _ = _dolfinx()
+        fem = dolfinx.fem
+        Q, q_to_v = V.sub(0).collapse()
+        self.q_nodes = np.asarray(q_to_v) // 3  # Q dof j sits on node q_to_v[j] // 3
+        self.functions = {name: fem.Function(Q if name in scalars else V, name=name)
+                          for name in fields}
+        self.scalars = set(scalars)
+        with signals_held():
+            self.file = dolfinx.io.VTKFile(comm, str(path), "w")
+
+    def write(self, values: dict, t: float) -> None:
+        """One frame at time ``t`` from ``values`` {name: array over the nodes}."""
+        for name, function in self.functions.items():
+            if name in self.scalars:
+                function.x.array[:] = values[name][self.q_nodes]
+            else:
+                function.x.array[:] = values[name].ravel()
+        with signals_held():
+            self.file.write_function(list(self.functions.values()), t)
+
+    def close(self) -> None:
+        """Write the .pvd and let DOLFINx's writer go at once: its destructor
+        writes the .pvd again (creating its directory if need be), which must
+        happen before a failed run's directory is removed, not after."""
+        if self.file is not None:
+            with signals_held():
+                self.file.close()
+                self.file = None
