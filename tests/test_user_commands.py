@@ -190,10 +190,10 @@ def test_sweep_workers_die_with_their_parent(home):
                               "--set", "time.T=300", "--set", "time.series_dt=0.01",
                               "--grid", "vibration.k_v=2,3,4,6",
                               "--workers", "2", "--out", "S"],
-                             cwd=home, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                             cwd=home, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     while len(workers := worker_pids(sweep.pid)) < 2:
-        assert time.monotonic() < deadline and sweep.poll() is None
+        assert time.monotonic() < deadline and sweep.poll() is None, sweep.stderr.read()
         time.sleep(0.1)
     sweep.kill()  # kill -9: the parent cannot clean up
     sweep.wait()

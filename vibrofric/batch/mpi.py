@@ -25,6 +25,11 @@ def world():
     """
     if not any(variable in os.environ for variable in LAUNCHER_VARIABLES):
         return None
+    if os.environ.get("OMPI_MCA_ess") == "singleton":
+        # inherited from a parent that initialized Open MPI on its own (a
+        # script or test that ran DOLFINx, then started this command): its
+        # PMIX_RANK is not a launcher's
+        return None
     from mpi4py import MPI
 
     return MPI.COMM_WORLD
