@@ -10,7 +10,7 @@ import dataclasses
 import math
 import tomllib
 import typing
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import tomli_w

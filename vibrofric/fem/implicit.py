@@ -80,6 +80,11 @@ penalty nor k_t limits dt, and no tuning is needed. ImplicitRun refuses
 (naming time.dt) a scene whose LuGre law departs so far from k_t (its
 dampings over a long step) that this bound exceeds MAX_CONTRACTION.
 
+The parts: generalized_alpha.py (coefficients, the linear system, the
+contact tangent), contact_solve.py (the contact forces at a trial state and
+the iteration), step_cost.py (for "auto"), energy.py (the balance); here, the
+prepared run and its compiled step.
+
 Where that bound does not hold: nodes near lift-off. The block rocks on its
 face every cycle (friction at z = 0, inertia at mid-height): the corner
 nodes' normal forces swing between 0 and twice their share even in the
@@ -102,52 +107,19 @@ import scipy.sparse as sp
 from numba import njit
 
 from ..core.base_motion import base_displacement, vibration_axis
-from ..core.friction import friction_law_args, slip_resolving_step
+from ..core.friction import friction_law_args
 from ..friction_law.kernels import FASTMATH
 from ..scene import SceneError
-from . import energy, trouble
-from .contact import node_contact
+from . import energy, recording, trouble
+from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRACTION,
+                            MAX_ITERATIONS, MIN_STEP, STALL_FACTOR, ContactData, StepStart,
+                            _newton_correction, _residual, friction_substeps, law_departure)
+from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
 from .linalg import apply, bsr, factorize, inverse, solve
 from .recording import (COS, SIN, XB, YB, Integration, Recorder, State, columns, finish_step,
                         initial_scalars, keep_step, loop_stats, run_in_chunks)
 from .steady import SteadyState
-
-# Convergence of the contact iteration: the change of every contact
-# displacement below this fraction of F_N / k_t (~7e-13 m on the paper's
-# cases: 1e-5 of the Dahl sliding length s_c, far above rounding). Measured on
-# the Fig 7 scene at dt = 1e-5 s: 2.2 iterations a step, F_dv within 1e-5 of
-# a 10x tighter tolerance's (2.6 iterations), the energy balance to 1e-7.
-ITERATION_TOLERANCE = 1e-6
-MAX_ITERATIONS = 30
-# Then the plain fixed point (delta = -rho), slower, for steps where the Newton
-# steps alternate across contact kinks.
-FALLBACK_ITERATIONS = 300
-# Backtracking: a Newton step that does not lower the residual is halved, down
-# to this fraction. A step that has not converged after all iterations is
-# accepted at its best iterate if that one's residual is within STALL_FACTOR
-# times the tolerance (1e-4 of F_N / k_t, ~1e-3 of s_c: a normal force error
-# of ~1e-3 F_N / contacts on one node): it sits on a node's contact kink,
-# where the Newton steps of the two sides can alternate. Counted as
-# iterations_stalled.
-MIN_STEP = 1.0 / 64.0
-STALL_FACTOR = 1e2
-# Nodes below this fraction of their preload's normal force get a Newton step
-# (_newton_correction), with tangents by forward differences of FD_STEP times
-# the node's natural length (its sliding length, its preload penetration).
-CRITICAL = 0.25
-FD_STEP = 1e-4
-# The friction law runs on at least this many sub-steps a vibration cycle (friction_substeps).
-SUBSTEPS_PER_CYCLE = 100
-# Refuse a scene whose estimated contraction factor is above this (at 0.5 the
-# iteration needs ~25 steps; beyond, it may not converge).
-MAX_CONTRACTION = 0.5
-
-# What one operation costs, ns (measured on the 2-core development machine;
-# only their ratios matter, for fem.integrator = "auto"): a multiply-add in a
-# dense product, in a sparse product (BSR), in a sparse triangular solve; a
-# vector update per DOF; one friction law update of one node.
-COST = {"dense": 1.0, "sparse": 0.5, "solve": 1.6, "vector": 0.5, "friction": 60.0}
-FILL = 7.0
+from .step_cost import step_cost
 
 # scalars[]: the loop's carried scalar state, after recording's
 F_D, ITER_MAX, ITER_SUM, STALLED = range(8, 12)
@@ -193,126 +165,44 @@ class Work(NamedTuple):
                    np.empty(substeps), np.empty(substeps))
 
 
-def friction_substeps(scene) -> int:
-    """Friction sub-steps per step: enough for SUBSTEPS_PER_CYCLE a vibration cycle.
+class Operators(NamedTuple):
+    """The factorized linear system as the compiled step takes it (``operators``)."""
 
-    The friction law is the scene's fastest nonlinearity: its asperity
-    follows the base's sinusoid, whose phase moves by w dt a step (0.25 rad
-    at 4 kHz and dt = 1e-5 s). Integrating it in one piece over such a step
-    errs by ~1% of F_dv (the lumped stepper at dt = 1e-5 s: -0.6%, at
-    6.25e-6 s: -1.6%). On sub-steps of 2 pi / 100, the base on its exact
-    sinusoid and the body at its mean velocity over the step, a rigid block
-    (trapezoidal rule, Fig 7 scene) is within 0.2% at dt = 1e-5 s. (A cubic
-    path through the end velocities is no more accurate there, and it
-    carries the unresolved, undamped penalty modes' velocities into the slip.)
-    And the split of each sub-step into base and body phases errs in
-    proportion to the slip a sub-step makes against the sliding length
-    (analytic.coupled.SLIP_PER_STEP), most where the sliding direction turns:
-    so the sub-steps are also at most analytic.coupled.slip_resolving_step.
-    On the coupled scene at k_v = 20, theta = 75 deg, dt = 1e-5 s: with the
-    cycle rule alone (3 sub-steps) F_dv was 4.8% below the explicit run at
-    2.5e-7 s; with 28 sub-steps it is 0.25% below (at 120 deg +0.8%).
-    """
-    dt = scene.time.dt
-    per_cycle = math.ceil(SUBSTEPS_PER_CYCLE * scene.vibration.f * dt - 1e-9)
-    resolving = math.ceil(dt / slip_resolving_step(scene) - 1e-9)
-    return max(1, per_cycle, resolving)
+    mass: object            # M: diagonal array (full) or dense matrix (reduced)
+    stiffness: object       # K: BSR blocks (full) or dense matrix (reduced)
+    inv: object             # A^-1: its factorization (linalg.py)
+    Z: np.ndarray           # A^-1 [P d_x]
+    G: np.ndarray           # P^T A^-1 P
+    h: np.ndarray           # P^T A^-1 d_x
+    e: float                # d_x^T A^-1 d_x
+    contact_dofs: np.ndarray
+    others: np.ndarray      # the q indices that are not contact DOFs
+    drive_index: np.ndarray
+    drive_x: np.ndarray
+    drive_y: np.ndarray
 
 
-def coefficients(rho_inf: float, dt: float) -> tuple:
-    """(alpha_m, alpha_f, beta_N, gamma, c_M, c_V) of generalized-alpha for rho_inf and dt."""
-    alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
-    alpha_f = rho_inf / (rho_inf + 1.0)
-    gamma = 0.5 - alpha_m + alpha_f
-    beta_n = 0.25 * (1.0 - alpha_m + alpha_f) ** 2
-    return alpha_m, alpha_f, beta_n, gamma, (1.0 - alpha_m) / (beta_n * dt * dt), gamma / (beta_n * dt)
+class BaseMotion(NamedTuple):
+    """The vibrating base (eqs 23-25, 30)."""
+
+    amplitude: float
+    omega: float
+    t_on: float
+    cos_theta: float
+    sin_theta: float
+    eta_y: float
 
 
-class LinearSystem:
-    """The linear part of a model in its coordinates q (u = u0 + T q).
-
-    mass, stiffness  M and K: a diagonal (1-D array) and a scipy sparse matrix
-                     (the full model), or dense 2-D arrays (the reduced model)
-    contact_dofs     (contacts, 3) the q index of each contact node's X, Y, Z
-    drive_index, drive_x, drive_y
-                     x_A = sum drive_x q[drive_index], y_A likewise (drive.py)
-    expand           q -> T q, the node displacement field (for frames and fields)
-    """
-
-    def __init__(self, mass, stiffness, contact_dofs, drive_index, drive_x, drive_y, expand):
-        self.mass = mass
-        self.stiffness = stiffness
-        self.contact_dofs = np.ascontiguousarray(contact_dofs, dtype=np.int64)
-        self.drive_index = np.ascontiguousarray(drive_index, dtype=np.int64)
-        self.drive_x = np.ascontiguousarray(drive_x, dtype=float)
-        self.drive_y = np.ascontiguousarray(drive_y, dtype=float)
-        self.expand = expand
-
-    @property
-    def size(self) -> int:
-        return self.stiffness.shape[0]
-
-    @property
-    def dense(self) -> bool:
-        return isinstance(self.stiffness, np.ndarray)
+class Drive(NamedTuple):
+    k_d: float
+    v_d: float
 
 
-def full_system(model) -> LinearSystem:
-    """The full model: q = u - u0, every DOF."""
-    contacts = model.contact_nodes
-    weights = model.attach_weights
-    index = 3 * model.attach_nodes
-    return LinearSystem(model.disc.mass, model.stiffness,
-                        3 * contacts[:, None] + np.arange(3)[None, :],
-                        np.concatenate([index, index + 1]),
-                        np.concatenate([weights, np.zeros_like(weights)]),
-                        np.concatenate([np.zeros_like(weights), weights]),
-                        lambda q: q)
+class Limits(NamedTuple):
+    """What numerical trouble is measured against (trouble.py)."""
 
-
-def contact_tangent(model, scene, c_v) -> np.ndarray:
-    """l: (3 contacts,) the contact forces' tangent per contact DOF (see the docstring)."""
-    tangent = np.empty((model.contact_nodes.size, 3))
-    tangent[:, 0] = tangent[:, 1] = scene.contact.k_t * model.area_share
-    tangent[:, 2] = model.penalty_share * (1.0 + model.beta * c_v)
-    return tangent.ravel()
-
-
-def law_departure(scene) -> float:
-    """An upper bound of |dF/d(slip) - k_t w_i| / (k_t w_i) for the scene's law at its dt.
-
-    Dahl: dF/d(slip) lies in [0, 2 k_t w_i], so 1. LuGre adds the Stribeck
-    term (the sliding limit g(v_r) changing with the step's slip: at most
-    sqrt(2/e) (F_s - F_c) / F_c, reached at v_r = v_s / sqrt 2) and the dampings
-    (h_t ds + h_v dv_r) / dt: (2 h_t + h_v) / (k_t dt).
-    """
-    c = scene.contact
-    if c.law == "dahl":
-        return 1.0
-    stribeck = math.sqrt(2.0 / math.e) * abs(scene.F_s - scene.F_c) / max(scene.F_c, 1e-300)
-    return 1.0 + stribeck + (2.0 * c.h_t + c.h_v) / (c.k_t * scene.time.dt)
-
-
-def step_cost(system, factor_entries, contacts, substeps) -> float:
-    """ns a step, roughly (COST): the solve, M and K, the non-contact rows of Z, three
-    iterations (the product with G, the friction law on every node and sub-step)."""
-    nc = 3 * contacts
-    if system.dense:
-        linear = COST["dense"] * (factor_entries + 2 * system.size ** 2)
-    else:
-        linear = (COST["solve"] * factor_entries + COST["sparse"] * system.stiffness.nnz
-                  + COST["vector"] * 4 * system.size)
-    rows = COST["dense"] * (system.size - nc) * (nc + 1)
-    return linear + rows + 3 * (COST["dense"] * nc * nc + COST["friction"] * contacts * substeps)
-
-
-def estimated_cost(scene, model) -> float:
-    """step_cost of the full model before factorizing it: its LU (minimum degree on
-    the block's hexahedral mesh) holds about FILL n^1.5 entries (measured: 139 k at
-    720 DOFs, 2.4 M at 4,455)."""
-    system = full_system(model)
-    return step_cost(system, FILL * system.size ** 1.5, model.contact_nodes.size,
-                     friction_substeps(scene))
+    F_N: float
+    mu_max: float
 
 
 class ImplicitRun:
@@ -423,15 +313,16 @@ class ImplicitRun:
         work = Work.allocate(n, contacts, self.substeps)
 
         others = np.setdiff1d(np.arange(n), system.contact_dofs.ravel())
-        operators = (self.mass_op, self.stiffness_op, self.inv, self.Z, self.G, self.h, self.e,
-                     system.contact_dofs, others, system.drive_index, system.drive_x, system.drive_y)
-        contact = (u0c, model.normal0, model.penalty_share, model.area_share,
-                   self.tangent, self.assumed)
-        base = (scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
-        scheme = (dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
-                  ITERATION_TOLERANCE * c.F_N / c.k_t, MAX_ITERATIONS)
-        drive = (scene.drive.k_d, scene.drive.v_d)
-        limits = (c.F_N, scene.mu_max)
+        operators = Operators(self.mass_op, self.stiffness_op, self.inv, self.Z, self.G, self.h,
+                              self.e, system.contact_dofs, others, system.drive_index,
+                              system.drive_x, system.drive_y)
+        contact = ContactData(u0c, model.normal0, model.penalty_share, model.area_share,
+                              self.tangent, self.assumed)
+        base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
+        scheme = Scheme(dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
+                        ITERATION_TOLERANCE * c.F_N / c.k_t, MAX_ITERATIONS)
+        drive = Drive(scene.drive.k_d, scene.drive.v_d)
+        limits = Limits(c.F_N, scene.mu_max)
 
         def state(step):
             return State(step, step * dt, model.u0 + system.expand(q), system.expand(v),
@@ -454,152 +345,6 @@ class ImplicitRun:
                  "iterations_stalled": int(scalars[STALLED]),
                  **steady.report(last)}
         return Integration(recorder.table(last), state(last), stats)
-
-
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _node(c, qx, qy, qz, step, contact_dofs, contact, law, scheme, length, ex, ey):
-    """Contact node c over the step, ending at the trial displacements (qx, qy, qz).
-
-    The friction law runs over the step's sub-steps (friction_substeps): the
-    node moves at its mean velocity over the step, the base along its exact
-    sinusoid; the normal force's dashpot sees the velocity interpolated
-    between v_n and v_{n+1} (Newmark, from q_{n+1}). Returns
-    contact.node_contact's (N, s, ex, ey, F_x, F_y) at the end, and
-    g_c = f_c + l q_c (g_z with l only where A holds it).
-    """
-    q_old, v_old, vt, qt, base_dx, base_free = step
-    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
-    dt, c_v, beta = scheme[0], scheme[6], scheme[7]
-    ix, iy, iz = contact_dofs[c, 0], contact_dofs[c, 1], contact_dofs[c, 2]
-    m = base_dx.shape[0]
-    slip_x, slip_y = (qx - q_old[ix]) / m, (qy - q_old[iy]) / m
-    z0, dz = u0c[c, 2] + q_old[iz], (qz - q_old[iz]) / m
-    vz0, vz1 = v_old[iz], vt[iz] + c_v * (qz - qt[iz])
-    s, e_x, e_y = length[c], ex[c], ey[c]
-    n_i = f_x = f_y = 0.0
-    for j in range(1, m + 1):
-        tau = j / m
-        n_i, s, e_x, e_y, f_x, f_y = node_contact(slip_x, slip_y, z0 + j * dz,
-                                                  vz0 + tau * (vz1 - vz0),
-                                                  base_dx[j - 1], base_free[j - 1], penalty_share[c],
-                                                  area_share[c], beta, law, dt / m, s, e_x, e_y)
-    return (n_i, s, e_x, e_y, f_x, f_y, -f_x + tangent[3 * c] * qx, -f_y + tangent[3 * c + 1] * qy,
-            n_i + tangent[3 * c + 2] * assumed[c] * qz)
-
-
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _contact_space(qc, xa, t, step, contact_dofs, contact, law, drive, scheme, length, ex, ey,
-                   work):
-    """Evaluate the contact forces at the trial contact displacements ``qc`` and drive x_A.
-
-    Fills g (work) with g_c = f_c + l q_c and returns (F_d, sum N, sum F_x, sum F_y);
-    the trial asperity states and forces land in work (not committed).
-    """
-    k_d, v_d = drive
-    g, trial_s, trial_ex, trial_ey = work.g, work.trial_s, work.trial_ex, work.trial_ey
-    normal_t, force_t = work.normal_t, work.force_t
-    f_n = f_x = f_y = 0.0
-    for c in range(contact_dofs.shape[0]):
-        (normal_t[c], trial_s[c], trial_ex[c], trial_ey[c], force_t[c, 0], force_t[c, 1],
-         g[3 * c], g[3 * c + 1], g[3 * c + 2]) = _node(
-            c, qc[3 * c], qc[3 * c + 1], qc[3 * c + 2], step, contact_dofs, contact, law, scheme,
-            length, ex, ey)
-        f_n += normal_t[c]
-        f_x += force_t[c, 0]
-        f_y += force_t[c, 1]
-    return k_d * (v_d * t - xa), f_n, f_x, f_y
-
-
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, law, scheme, mu_max,
-                       length, ex, ey, work):
-    """delta: the step of the contact-space fixed point.
-
-    -rho (the fixed-point step) on every node the matrix describes well; a
-    Newton step on the critical ones: those whose contact differs from the
-    matrix's assumption, or whose normal force is below CRITICAL of its
-    preload (there the Coulomb limit mu N_i is small, the friction
-    saturates and its tangent leaves k_t w_i, and the node may lift off
-    within the step). Their 3x3 tangents J_c = dg_c/dq_c are taken by forward
-    differences, and
-
-        (I - (1 - af) G_SS J_SS) d_S = -rho_S,   delta = -rho + (1 - af) G_:S J_SS d_S.
-    """
-    normal0, tangent, assumed = contact[1], contact[4], contact[5]
-    af1 = 1.0 - scheme[2]
-    g, normal_t, subset, jac = work.g, work.normal_t, work.subset, work.jac
-    for p in range(rho.shape[0]):
-        delta[p] = -rho[p]
-    nodes = 0
-    for c in range(normal_t.shape[0]):
-        active = 1.0 if normal_t[c] > 0.0 else 0.0
-        if active != assumed[c] or normal_t[c] < CRITICAL * normal0[c]:
-            subset[nodes] = c
-            nodes += 1
-    if nodes == 0:
-        return
-    m = 3 * nodes
-    tangents = np.empty((nodes, 3, 3))    # tangents[b, :, k] = dg_c / dq_(c,k)
-    for b in range(nodes):
-        c = subset[b]
-        scale = max(normal0[c], 1e-300)
-        steps = (FD_STEP * scale * max(mu_max, 0.01) / tangent[3 * c],
-                 FD_STEP * scale * max(mu_max, 0.01) / tangent[3 * c + 1],
-                 FD_STEP * scale / tangent[3 * c + 2])
-        for k in range(3):
-            x, y, z = qc[3 * c], qc[3 * c + 1], qc[3 * c + 2]
-            if k == 0:
-                x += steps[0]
-            elif k == 1:
-                y += steps[1]
-            else:
-                z += steps[2]
-            result = _node(c, x, y, z, step, contact_dofs, contact, law, scheme, length, ex, ey)
-            for r in range(3):
-                tangents[b, r, k] = (result[6 + r] - g[3 * c + r]) / steps[k]
-    small = np.empty((m, m))
-    rhs = np.empty(m)
-    for a in range(m):
-        pa = 3 * subset[a // 3] + a % 3
-        rhs[a] = -rho[pa]
-        for b in range(nodes):
-            cb = subset[b]
-            for k in range(3):          # column 3 b + k of G_SS J_SS
-                s = 0.0
-                for r in range(3):
-                    s += G[pa, 3 * cb + r] * tangents[b, r, k]
-                small[a, 3 * b + k] = (1.0 if a == 3 * b + k else 0.0) - af1 * s
-    d_s = np.linalg.solve(small, rhs)
-    for b in range(nodes):
-        cb = subset[b]
-        for r in range(3):
-            s = 0.0
-            for k in range(3):
-                s += tangents[b, r, k] * d_s[3 * b + k]
-            jac[r] = af1 * s
-        for r in range(3):
-            col = 3 * cb + r
-            for p in range(rho.shape[0]):
-                delta[p] += G[p, col] * jac[r]
-
-
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, law, drive, scheme,
-              length, ex, ey, work):
-    """Evaluate the contact space at (qc, x_a): fills g, target = y_c + (1 - af) (G g + h F_d)
-    and rho = qc - target (work). Returns (F_d, sum N, sum F_x, sum F_y, max |rho|, the
-    x_A the fixed point maps x_a to)."""
-    g, target, rho, yc = work.g, work.target, work.rho, work.yc
-    f_d, f_n, f_x, f_y = _contact_space(qc, x_a, t, step, contact_dofs, contact, law, drive,
-                                        scheme, length, ex, ey, work)
-    apply(G, g, target)
-    hg = residual = 0.0
-    for p in range(qc.shape[0]):
-        target[p] = yc[p] + af1 * (target[p] + h[p] * f_d)
-        rho[p] = qc[p] - target[p]
-        residual = max(residual, abs(rho[p]))
-        hg += h[p] * g[p]
-    return f_d, f_n, f_x, f_y, residual, y_a + af1 * (hg + e * f_d)
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -669,7 +414,7 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
             base_dx[j] = (u_j - u_prev) * cos_theta
             base_free[j] = eta_y * (u_j - u_prev) * sin_theta  # phase 2: eta_y dy_b (eq 30)
             u_prev = u_j
-        step = (q, v, vt, qt, base_dx, base_free)
+        step = StepStart(q, v, vt, qt, base_dx, base_free)
 
         # The contact-space fixed point, from the last step's g.
         y_a = 0.0
@@ -792,12 +537,12 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
             apply(stiffness, q, r2)
             kinetic, elastic = energy.stored(q, v, r1, r2, contact_dofs, u0c[:, 2], normal0,
                                              penalty_share, k_t * area_share, length, f_d, k_d)
-            row[9] = sums[energy.W_DRIVE]
-            row[10] = sums[energy.W_BASE]
-            row[11] = kinetic
-            row[12] = elastic
-            row[13] = sums[energy.D_FRIC]
-            row[14] = sums[energy.D_DAMP]
+            row[recording.W_DRIVE] = sums[energy.W_DRIVE]
+            row[recording.W_BASE] = sums[energy.W_BASE]
+            row[recording.E_KIN] = kinetic
+            row[recording.E_EL] = elastic
+            row[recording.D_FRIC] = sums[energy.D_FRIC]
+            row[recording.D_DAMP] = sums[energy.D_DAMP]
         if keep_step(i, f_d, recorder, steady):
             stop = i
             break

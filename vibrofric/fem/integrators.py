@@ -10,7 +10,7 @@ An integrator is a class prepared once per run:
         which integrator this is, what the set-up found (FEResult.info), and
         for "auto" why it was picked (None otherwise)
     run.cost_per_step
-        its time per step in ns, roughly (implicit.COST; for "auto")
+        its time per step in ns, roughly (step_cost.COST; for "auto")
     run.integrate(plan, frame=None, every=0, progress=None) -> recording.Integration
         run ``plan.steps`` steps of ``scene.time.dt`` from the static preload
         (fewer once settled, steady.py), keep the rows ``plan``
@@ -31,8 +31,9 @@ The integrators, all driving the same per-node friction law (contact.py):
 """
 
 from ..scene import SceneError
-from . import explicit, implicit
-from .implicit import ImplicitRun, full_system
+from . import explicit, step_cost
+from .generalized_alpha import full_system
+from .implicit import ImplicitRun
 from .reduction import ReducedRun
 
 
@@ -49,8 +50,8 @@ class ExplicitRun:
 
     @property
     def cost_per_step(self) -> float:
-        """ns a step, roughly (implicit.COST): the product with K, the vectors, the friction law."""
-        cost = implicit.COST
+        """ns a step, roughly (step_cost.COST): the product with K, the vectors, the friction law."""
+        cost = step_cost.COST
         return (cost["sparse"] * self.model.stiffness.nnz + cost["vector"] * 4 * self.model.dofs
                 + cost["friction"] * self.model.contact_nodes.size)
 
@@ -67,7 +68,7 @@ def choose(scene, model):
     """fem.integrator = "auto": the cheapest integrator that meets fem.accuracy.
 
     All three run the scene's steps of time.dt, so the cheapest is the one with
-    the cheapest step (cost_per_step, calibrated in implicit.COST). Candidates:
+    the cheapest step (cost_per_step, calibrated in step_cost.COST). Candidates:
 
     explicit  the full model, where time.dt is below its stable step
     reduced   where its measured reduction error (reduction.py: the face's
@@ -75,7 +76,7 @@ def choose(scene, model):
               error) is within fem.accuracy
     implicit  the full model at any step; prepared (factorized) only when
               neither of the others qualifies or its estimated cost
-              (implicit.estimated_cost) is below theirs: it always costs more
+              (step_cost.estimated_cost) is below theirs: it always costs more
               than explicit at the same step, but less than a reduced model that
               keeps hundreds of modes (an ultrasonic base)
 
@@ -100,7 +101,7 @@ def choose(scene, model):
                            f"fem.accuracy {accuracy:g}")
         candidates.append(run)
     cheapest = min((run.cost_per_step for run in candidates), default=float("inf"))
-    if implicit.estimated_cost(scene, model) < cheapest:
+    if step_cost.estimated_cost(scene, model) < cheapest:
         candidates.append(implicit_run(scene, model))
         reasons.append("implicit: the full model at any time.dt")
     best = min(candidates, key=lambda run: run.cost_per_step)

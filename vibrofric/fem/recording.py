@@ -39,6 +39,8 @@ COLUMNS = SERIES_COLUMNS + ("F_n",)
 # Balance: W_drive + W_base = E_kin + E_el + D_fric + D_damp (+ the integrator's
 # numerical dissipation, zero for fem.rho_infinity = 1); see energy.py.
 ENERGY = ("W_drive", "W_base", "E_kin", "E_el", "D_fric", "D_damp")
+# Their places in a recorded row.
+W_DRIVE, W_BASE, E_KIN, E_EL, D_FRIC, D_DAMP = range(len(COLUMNS), len(COLUMNS) + len(ENERGY))
 
 
 def columns(energy: bool) -> tuple:

@@ -63,7 +63,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from ..scene import SceneError
-from .implicit import ImplicitRun, LinearSystem
+from .generalized_alpha import LinearSystem
+from .implicit import ImplicitRun
 from .linalg import symmetric_lu
 
 # Harmonics of the excitation at which the compliance is compared, and the loss factor.

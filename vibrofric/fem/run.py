@@ -97,13 +97,12 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     writer = None
     if vtk_dir is not None and scene.fem.output_every > 0:
         writer = FrameWriter(model, comm, vtk_dir)
-    steps_done = None
-    if progress is not None:
-        def steps_done(step, steps):
-            progress(step * scene.time.dt, steps * scene.time.dt)
+    def steps_done(step, steps):
+        progress(step * scene.time.dt, steps * scene.time.dt)
+
     try:
         run = integrator.integrate(plan, frame=writer, every=scene.fem.output_every,
-                                   progress=steps_done)
+                                   progress=None if progress is None else steps_done)
     finally:
         if writer is not None:
             writer.close()

@@ -1,0 +1,260 @@
+"""The contact inside an implicit step: every contact node's forces at trial
+displacements, and the iteration that makes them consistent with the step
+(the fixed point in the contact space, Newton on the critical nodes;
+implicit.py explains why it converges).
+
+Each node's contact over the step is the VFRIC analogue (contact.node_contact,
+the same per-node update as explicit.py) on friction_substeps(scene)
+sub-steps, the base on its exact sinusoid (eq 23), the node at its mean
+velocity over the step.
+"""
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from ..core.friction import slip_resolving_step
+from ..friction_law.kernels import FASTMATH
+from .contact import node_contact
+from .linalg import apply
+
+# Convergence of the contact iteration: the change of every contact
+# displacement below this fraction of F_N / k_t (~7e-13 m on the paper's
+# cases: 1e-5 of the Dahl sliding length s_c, far above rounding). Measured on
+# the Fig 7 scene at dt = 1e-5 s: 2.2 iterations a step, F_dv within 1e-5 of
+# a 10x tighter tolerance's (2.6 iterations), the energy balance to 1e-7.
+ITERATION_TOLERANCE = 1e-6
+MAX_ITERATIONS = 30
+# Then the plain fixed point (delta = -rho), slower, for steps where the Newton
+# steps alternate across contact kinks.
+FALLBACK_ITERATIONS = 300
+# Backtracking: a Newton step that does not lower the residual is halved, down
+# to this fraction. A step that has not converged after all iterations is
+# accepted at its best iterate if that one's residual is within STALL_FACTOR
+# times the tolerance (1e-4 of F_N / k_t, ~1e-3 of s_c: a normal force error
+# of ~1e-3 F_N / contacts on one node): it sits on a node's contact kink,
+# where the Newton steps of the two sides can alternate. Counted as
+# iterations_stalled.
+MIN_STEP = 1.0 / 64.0
+STALL_FACTOR = 1e2
+# Nodes below this fraction of their preload's normal force get a Newton step
+# (_newton_correction), with tangents by forward differences of FD_STEP times
+# the node's natural length (its sliding length, its preload penetration).
+CRITICAL = 0.25
+FD_STEP = 1e-4
+# The friction law runs on at least this many sub-steps a vibration cycle (friction_substeps).
+SUBSTEPS_PER_CYCLE = 100
+# Refuse a scene whose estimated contraction factor is above this (at 0.5 the
+# iteration needs ~25 steps; beyond, it may not converge).
+MAX_CONTRACTION = 0.5
+
+
+class ContactData(NamedTuple):
+    """The contact nodes as the step sees them (``contact`` in the compiled functions)."""
+
+    u0c: np.ndarray             # (contacts, 3) preload displacement
+    normal0: np.ndarray         # (contacts,) preload normal force
+    penalty_share: np.ndarray   # (contacts,) k_pen w_i
+    area_share: np.ndarray      # (contacts,) w_i
+    tangent: np.ndarray         # (3 contacts,) l, the tangent the factorized matrix holds
+    assumed: np.ndarray         # (contacts,) 1.0 where in contact at the preload
+
+
+class StepStart(NamedTuple):
+    """The state a step starts from, and the base over its friction sub-steps (``step``)."""
+
+    q_old: np.ndarray
+    v_old: np.ndarray
+    vt: np.ndarray              # predictors
+    qt: np.ndarray
+    base_dx: np.ndarray         # (substeps,) the base's X increments
+    base_free: np.ndarray       # (substeps,) the free end's: eta_y dy_b (eq 30)
+
+
+def friction_substeps(scene) -> int:
+    """Friction sub-steps per step: enough for SUBSTEPS_PER_CYCLE a vibration cycle.
+
+    The friction law is the scene's fastest nonlinearity: its asperity
+    follows the base's sinusoid, whose phase moves by w dt a step (0.25 rad
+    at 4 kHz and dt = 1e-5 s). Integrating it in one piece over such a step
+    errs by ~1% of F_dv (the lumped stepper at dt = 1e-5 s: -0.6%, at
+    6.25e-6 s: -1.6%). On sub-steps of 2 pi / 100, the base on its exact
+    sinusoid and the body at its mean velocity over the step, a rigid block
+    (trapezoidal rule, Fig 7 scene) is within 0.2% at dt = 1e-5 s. (A cubic
+    path through the end velocities is no more accurate there, and it
+    carries the unresolved, undamped penalty modes' velocities into the slip.)
+    And the split of each sub-step into base and body phases errs in
+    proportion to the slip a sub-step makes against the sliding length
+    (core.friction.SLIP_PER_STEP), most where the sliding direction turns:
+    so the sub-steps are also at most core.friction.slip_resolving_step.
+    On the coupled scene at k_v = 20, theta = 75 deg, dt = 1e-5 s: with the
+    cycle rule alone (3 sub-steps) F_dv was 4.8% below the explicit run at
+    2.5e-7 s; with 28 sub-steps it is 0.25% below (at 120 deg +0.8%).
+    """
+    dt = scene.time.dt
+    per_cycle = math.ceil(SUBSTEPS_PER_CYCLE * scene.vibration.f * dt - 1e-9)
+    resolving = math.ceil(dt / slip_resolving_step(scene) - 1e-9)
+    return max(1, per_cycle, resolving)
+
+
+def law_departure(scene) -> float:
+    """An upper bound of |dF/d(slip) - k_t w_i| / (k_t w_i) for the scene's law at its dt.
+
+    Dahl: dF/d(slip) lies in [0, 2 k_t w_i], so 1. LuGre adds the Stribeck
+    term (the sliding limit g(v_r) changing with the step's slip: at most
+    sqrt(2/e) (F_s - F_c) / F_c, reached at v_r = v_s / sqrt 2) and the dampings
+    (h_t ds + h_v dv_r) / dt: (2 h_t + h_v) / (k_t dt).
+    """
+    c = scene.contact
+    if c.law == "dahl":
+        return 1.0
+    stribeck = math.sqrt(2.0 / math.e) * abs(scene.F_s - scene.F_c) / max(scene.F_c, 1e-300)
+    return 1.0 + stribeck + (2.0 * c.h_t + c.h_v) / (c.k_t * scene.time.dt)
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _node(c, qx, qy, qz, step, contact_dofs, contact, law, scheme, length, ex, ey):
+    """Contact node c over the step, ending at the trial displacements (qx, qy, qz).
+
+    The friction law runs over the step's sub-steps (friction_substeps): the
+    node moves at its mean velocity over the step, the base along its exact
+    sinusoid; the normal force's dashpot sees the velocity interpolated
+    between v_n and v_{n+1} (Newmark, from q_{n+1}). Returns
+    contact.node_contact's (N, s, ex, ey, F_x, F_y) at the end, and
+    g_c = f_c + l q_c (g_z with l only where A holds it).
+    """
+    q_old, v_old, vt, qt, base_dx, base_free = step
+    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
+    dt, c_v, beta = scheme.dt, scheme.c_v, scheme.beta
+    ix, iy, iz = contact_dofs[c, 0], contact_dofs[c, 1], contact_dofs[c, 2]
+    m = base_dx.shape[0]
+    slip_x, slip_y = (qx - q_old[ix]) / m, (qy - q_old[iy]) / m
+    z0, dz = u0c[c, 2] + q_old[iz], (qz - q_old[iz]) / m
+    vz0, vz1 = v_old[iz], vt[iz] + c_v * (qz - qt[iz])
+    s, e_x, e_y = length[c], ex[c], ey[c]
+    n_i = f_x = f_y = 0.0
+    for j in range(1, m + 1):
+        tau = j / m
+        n_i, s, e_x, e_y, f_x, f_y = node_contact(slip_x, slip_y, z0 + j * dz,
+                                                  vz0 + tau * (vz1 - vz0),
+                                                  base_dx[j - 1], base_free[j - 1], penalty_share[c],
+                                                  area_share[c], beta, law, dt / m, s, e_x, e_y)
+    return (n_i, s, e_x, e_y, f_x, f_y, -f_x + tangent[3 * c] * qx, -f_y + tangent[3 * c + 1] * qy,
+            n_i + tangent[3 * c + 2] * assumed[c] * qz)
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _contact_space(qc, xa, t, step, contact_dofs, contact, law, drive, scheme, length, ex, ey,
+                   work):
+    """Evaluate the contact forces at the trial contact displacements ``qc`` and drive x_A.
+
+    Fills g (work) with g_c = f_c + l q_c and returns (F_d, sum N, sum F_x, sum F_y);
+    the trial asperity states and forces land in work (not committed).
+    """
+    k_d, v_d = drive
+    g, trial_s, trial_ex, trial_ey = work.g, work.trial_s, work.trial_ex, work.trial_ey
+    normal_t, force_t = work.normal_t, work.force_t
+    f_n = f_x = f_y = 0.0
+    for c in range(contact_dofs.shape[0]):
+        (normal_t[c], trial_s[c], trial_ex[c], trial_ey[c], force_t[c, 0], force_t[c, 1],
+         g[3 * c], g[3 * c + 1], g[3 * c + 2]) = _node(
+            c, qc[3 * c], qc[3 * c + 1], qc[3 * c + 2], step, contact_dofs, contact, law, scheme,
+            length, ex, ey)
+        f_n += normal_t[c]
+        f_x += force_t[c, 0]
+        f_y += force_t[c, 1]
+    return k_d * (v_d * t - xa), f_n, f_x, f_y
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, law, scheme, mu_max,
+                       length, ex, ey, work):
+    """delta: the step of the contact-space fixed point.
+
+    -rho (the fixed-point step) on every node the matrix describes well; a
+    Newton step on the critical ones: those whose contact differs from the
+    matrix's assumption, or whose normal force is below CRITICAL of its
+    preload (there the Coulomb limit mu N_i is small, the friction
+    saturates and its tangent leaves k_t w_i, and the node may lift off
+    within the step). Their 3x3 tangents J_c = dg_c/dq_c are taken by forward
+    differences, and
+
+        (I - (1 - af) G_SS J_SS) d_S = -rho_S,   delta = -rho + (1 - af) G_:S J_SS d_S.
+    """
+    normal0, tangent, assumed = contact.normal0, contact.tangent, contact.assumed
+    af1 = 1.0 - scheme.alpha_f
+    g, normal_t, subset, jac = work.g, work.normal_t, work.subset, work.jac
+    for p in range(rho.shape[0]):
+        delta[p] = -rho[p]
+    nodes = 0
+    for c in range(normal_t.shape[0]):
+        active = 1.0 if normal_t[c] > 0.0 else 0.0
+        if active != assumed[c] or normal_t[c] < CRITICAL * normal0[c]:
+            subset[nodes] = c
+            nodes += 1
+    if nodes == 0:
+        return
+    m = 3 * nodes
+    tangents = np.empty((nodes, 3, 3))    # tangents[b, :, k] = dg_c / dq_(c,k)
+    for b in range(nodes):
+        c = subset[b]
+        scale = max(normal0[c], 1e-300)
+        steps = (FD_STEP * scale * max(mu_max, 0.01) / tangent[3 * c],
+                 FD_STEP * scale * max(mu_max, 0.01) / tangent[3 * c + 1],
+                 FD_STEP * scale / tangent[3 * c + 2])
+        for k in range(3):
+            x, y, z = qc[3 * c], qc[3 * c + 1], qc[3 * c + 2]
+            if k == 0:
+                x += steps[0]
+            elif k == 1:
+                y += steps[1]
+            else:
+                z += steps[2]
+            result = _node(c, x, y, z, step, contact_dofs, contact, law, scheme, length, ex, ey)
+            for r in range(3):
+                tangents[b, r, k] = (result[6 + r] - g[3 * c + r]) / steps[k]
+    small = np.empty((m, m))
+    rhs = np.empty(m)
+    for a in range(m):
+        pa = 3 * subset[a // 3] + a % 3
+        rhs[a] = -rho[pa]
+        for b in range(nodes):
+            cb = subset[b]
+            for k in range(3):          # column 3 b + k of G_SS J_SS
+                s = 0.0
+                for r in range(3):
+                    s += G[pa, 3 * cb + r] * tangents[b, r, k]
+                small[a, 3 * b + k] = (1.0 if a == 3 * b + k else 0.0) - af1 * s
+    d_s = np.linalg.solve(small, rhs)
+    for b in range(nodes):
+        cb = subset[b]
+        for r in range(3):
+            s = 0.0
+            for k in range(3):
+                s += tangents[b, r, k] * d_s[3 * b + k]
+            jac[r] = af1 * s
+        for r in range(3):
+            col = 3 * cb + r
+            for p in range(rho.shape[0]):
+                delta[p] += G[p, col] * jac[r]
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, law, drive, scheme,
+              length, ex, ey, work):
+    """Evaluate the contact space at (qc, x_a): fills g, target = y_c + (1 - af) (G g + h F_d)
+    and rho = qc - target (work). Returns (F_d, sum N, sum F_x, sum F_y, max |rho|, the
+    x_A the fixed point maps x_a to)."""
+    g, target, rho, yc = work.g, work.target, work.rho, work.yc
+    f_d, f_n, f_x, f_y = _contact_space(qc, x_a, t, step, contact_dofs, contact, law, drive,
+                                        scheme, length, ex, ey, work)
+    apply(G, g, target)
+    hg = residual = 0.0
+    for p in range(qc.shape[0]):
+        target[p] = yc[p] + af1 * (target[p] + h[p] * f_d)
+        rho[p] = qc[p] - target[p]
+        residual = max(residual, abs(rho[p]))
+        hg += h[p] * g[p]
+    return f_d, f_n, f_x, f_y, residual, y_a + af1 * (hg + e * f_d)
