@@ -67,9 +67,13 @@ $(VENV)/.debs:
 	touch $@
 
 # pip adds only what Debian lacks; the constraints pin Debian's numpy, numba
-# and scipy so that no pip package can replace them under DOLFINx.
+# and scipy so that no pip package can replace them under DOLFINx, and
+# Debian's matplotlib where it is installed (a second one beside it breaks
+# its mpl_toolkits: "Unable to import Axes3D").
 $(VENV)/.installed: $(VENV)/.debs pyproject.toml
 	$(PY) -c "import numpy, numba, scipy; print(f'numpy=={numpy.__version__}\nnumba=={numba.__version__}\nscipy=={scipy.__version__}')" > $(VENV)/constraints.txt
+	/usr/bin/python3 -c "import matplotlib; print(f'matplotlib=={matplotlib.__version__}')" \
+	  >> $(VENV)/constraints.txt 2>/dev/null || true
 	$(PY) -m pip install -q -c $(VENV)/constraints.txt -e '.[test]'
 	touch $@
 
