@@ -22,7 +22,7 @@ from vibrofric.fem import FEResult, run_fe  # noqa: E402
 from vibrofric.fem import explicit, model as fem_model, run as fem_run  # noqa: E402
 from vibrofric.fem.contact import contact_forces  # noqa: E402
 from vibrofric.fem.paraview import FIELDS  # noqa: E402
-from vibrofric.fem.stability import critical_step, max_frequency  # noqa: E402
+from vibrofric.fem.stability import max_frequency  # noqa: E402
 from vibrofric.fem.drive import drive_stiffness_action  # noqa: E402
 from vibrofric.core.friction import friction_law_args  # noqa: E402
 from vibrofric.scene import SceneError  # noqa: E402
@@ -160,12 +160,12 @@ def test_the_loop_is_stable_just_below_dt_stable_and_not_just_above(factor, stab
     monkeypatch.setattr(explicit, "check_step", lambda scene, model: None)
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     if stable:
-        out = explicit.integrate(m, scene, plan)
+        out = explicit.ExplicitRun(scene, m).integrate(plan)
         assert np.all(np.isfinite(out.table))
         assert np.abs(out.table[:, -1] - scene.contact.F_N).max() < 0.01 * scene.contact.F_N
     else:
         with pytest.raises(NumericalError, match=r"failed at t = .* s \(step \d+"):
-            explicit.integrate(m, scene, plan)
+            explicit.ExplicitRun(scene, m).integrate(plan)
 
 
 # --- whole runs ------------------------------------------------------------------------------

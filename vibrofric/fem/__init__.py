@@ -13,9 +13,13 @@ friction subroutine (docs/model.md section 5). One physical idea per module:
     stability    the highest frequency, default damping, explicit stable step
     model        a scene's FE model as plain arrays (all of the above, once per run)
     linalg       products and factorized solves inside the numba loops
+    time_loop    what every integrator's run does around its compiled step
     explicit     central-difference time loop (numba), the baseline integrator
     implicit     generalized-alpha, the linear operator factorized once, the contact
                  and friction solved in the step (numba)
+    generalized_alpha  the scheme's coefficients, the linear system, the contact tangent
+    contact_solve  the contact inside an implicit step: forces at a trial state, the iteration
+    step_cost    what a step of each integrator costs, for "auto"
     reduction    Craig-Bampton reduction of the block to its contact face, and its
                  measured error; the reduced integrator
     integrators  the registry fem.integrator selects from, and "auto"
@@ -24,7 +28,7 @@ friction subroutine (docs/model.md section 5). One physical idea per module:
     energy       the energy balance of an implicit run (fem.energy)
     trouble      numerical trouble: the per-step checks and their messages
     paraview     the .pvd frame series (DOLFINx VTKFile)
-    run          run_fe(scene, comm, vtk_dir) -> FEResult
+    run          run_fe(scene, comm, vtk_dir, progress) -> FEResult
 
 Only dolfinx_adapter imports DOLFINx, UFL and petsc4py.
 """

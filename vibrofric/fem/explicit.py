@@ -35,14 +35,13 @@ from ..core.base_motion import base_displacement, vibration_axis
 from ..core.friction import friction_law_args
 from ..friction_law.kernels import FASTMATH
 from ..scene import SceneError
-from . import trouble
+from . import step_cost, trouble
 from .contact import contact_forces
 from .drive import attachment_position
 from .linalg import apply, bsr
 from .model import check_step
-from .recording import (COS, SIN, XB, YB, Integration, Recorder, State, columns, finish_step,
-                        initial_scalars, keep_step, loop_stats, run_in_chunks)
-from .steady import SteadyState
+from .recording import COS, SIN, XB, YB, finish_step, keep_step
+from .time_loop import Started, TimeLoop
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -135,62 +134,58 @@ def explicit_steps(first, last, dt,
     return 0, trouble.OK, stop
 
 
-def check(scene, model) -> None:
-    """Refuse what the explicit integrator cannot run: a step above the stable one, fem.energy."""
-    check_step(scene, model)
-    if scene.fem.energy:
-        raise SceneError("fem.energy", "the explicit integrator keeps no energy balance; "
-                                       "use fem.integrator = \"implicit\" or \"reduced\"")
+class ExplicitRun(TimeLoop):
+    """Central differences: the Abaqus/Explicit analogue, prepared for a scene.
 
-
-def integrate(model, scene, plan, frame=None, every=0, progress=None) -> Integration:
-    """Run the scene's steps with central differences (fewer once settled: steady.py).
-
-    plan   core.series.RecordPlan: which steps to keep
-    frame  optional callable frame(state) called at t = 0, every ``every`` steps
-           and at the last step
-    progress  optional callable progress(step, steps) (recording.run_in_chunks)
+    Refuses (SceneError) a step above the stable one, and fem.energy.
     """
-    check(scene, model)  # (run_fe checks before opening output; this guards direct calls)
-    c, dt = scene.contact, scene.time.dt
-    law = friction_law_args(scene)
-    cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
-    dofs, contacts = model.dofs, model.contact_nodes.size
 
-    u = model.u0.copy()
-    v = np.zeros(dofs)
-    work, force_sum = np.empty(dofs), np.empty(dofs)
-    disp = u.reshape(-1, 3)[model.contact_nodes].copy()
-    disp_new, vel_z = np.empty_like(disp), np.zeros(contacts)
-    length = np.zeros(contacts)
-    ex, ey = np.ones(contacts), np.zeros(contacts)  # before any motion the asperities point along X
-    normal = model.normal0.copy()
-    friction = np.zeros((contacts, 2))
-    scalars = initial_scalars()
-    recorder = Recorder(plan, len(columns(False)))
-    steady = SteadyState(scene)
-    stiffness = bsr(model.stiffness)  # node-by-node 3x3 blocks
+    name = "explicit"
 
-    def state(step):
-        return State(step, step * dt, u, v, length, ex, ey, normal, friction,
-                     scalars[XB], scalars[YB])
+    def __init__(self, scene, model):
+        check_step(scene, model)
+        if scene.fem.energy:
+            raise SceneError("fem.energy", "the explicit integrator keeps no energy balance; "
+                                           "use fem.integrator = \"implicit\" or \"reduced\"")
+        self.scene, self.model = scene, model
+        self.info = {}
 
-    def advance(first, last):
-        failed, code, stop = explicit_steps(
-            first, last, dt,
-            stiffness, model.inverse_mass, model.load, model.beta,
-            model.contact_nodes, model.penalty_share, model.area_share, law, c.eta_y,
-            model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
-            scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
-            c.F_N, scene.mu_max,
-            model.u0, u, v, work, force_sum, disp, disp_new, vel_z,
-            length, ex, ey, normal, friction, scalars, recorder.arrays, steady.arrays)
-        if code != trouble.OK:
-            raise trouble.failure(failed, code, scene,
-                                  f"try a smaller time.dt (stable step {model.dt_stable:.4g} s) or "
-                                  f"more fem.damping (now {model.beta:.3g} s)")
-        return stop
+    @property
+    def cost_per_step(self) -> float:
+        """ns a step, roughly (step_cost.COST): the product with K, the vectors, the friction law."""
+        cost = step_cost.COST
+        return (cost["sparse"] * self.model.stiffness.nnz + cost["vector"] * 4 * self.model.dofs
+                + cost["friction"] * self.model.contact_nodes.size)
 
-    last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress)
-    return Integration(recorder.table(last), state(last),
-                       {**loop_stats(scalars, loop_time), **steady.report(last)})
+    @property
+    def hint(self) -> str:
+        return (f"try a smaller time.dt (stable step {self.model.dt_stable:.4g} s) or "
+                f"more fem.damping (now {self.model.beta:.3g} s)")
+
+    def start(self, contact, scalars, recorder, steady) -> Started:
+        scene, model = self.scene, self.model
+        c, dt = scene.contact, scene.time.dt
+        law = friction_law_args(scene)
+        cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
+        dofs, contacts = model.dofs, model.contact_nodes.size
+
+        u = model.u0.copy()
+        v = np.zeros(dofs)
+        work, force_sum = np.empty(dofs), np.empty(dofs)
+        disp = u.reshape(-1, 3)[model.contact_nodes].copy()
+        disp_new, vel_z = np.empty_like(disp), np.zeros(contacts)
+        stiffness = bsr(model.stiffness)  # node-by-node 3x3 blocks
+
+        def steps(first, last):
+            return explicit_steps(
+                first, last, dt,
+                stiffness, model.inverse_mass, model.load, model.beta,
+                model.contact_nodes, model.penalty_share, model.area_share, law, c.eta_y,
+                model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
+                scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
+                c.F_N, scene.mu_max,
+                model.u0, u, v, work, force_sum, disp, disp_new, vel_z,
+                contact.length, contact.ex, contact.ey, contact.normal, contact.friction,
+                scalars, recorder.arrays, steady.arrays)
+
+        return Started(steps, lambda: (u, v))

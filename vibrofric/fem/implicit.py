@@ -116,10 +116,9 @@ from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRA
                             _newton_correction, _residual, friction_substeps, law_departure)
 from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
 from .linalg import apply, bsr, factorize, inverse, solve
-from .recording import (COS, SIN, XB, YB, Integration, Recorder, State, columns, finish_step,
-                        initial_scalars, keep_step, loop_stats, run_in_chunks)
-from .steady import SteadyState
+from .recording import COS, SIN, XB, YB, finish_step, keep_step
 from .step_cost import step_cost
+from .time_loop import Started, TimeLoop
 
 # scalars[]: the loop's carried scalar state, after recording's
 F_D, ITER_MAX, ITER_SUM, STALLED = range(8, 12)
@@ -205,17 +204,18 @@ class Limits(NamedTuple):
     mu_max: float
 
 
-class ImplicitRun:
+class ImplicitRun(TimeLoop):
     """An implicit run prepared for a scene: the factorization and the contact operator.
 
     Raises SceneError (naming the key) for a scene it cannot run; ``info``
-    says what was prepared; ``integrate(plan, frame, every)`` runs it.
+    says what was prepared; ``integrate`` (time_loop.TimeLoop) runs it.
     """
+
+    extra_scalars = 4  # F_D, ITER_MAX, ITER_SUM, STALLED
 
     def __init__(self, scene, model, system: LinearSystem, name="implicit"):
         t = scene.time
         self.scene, self.model, self.system, self.name = scene, model, system, name
-        self.choice = None
         self.coefficients = coefficients(scene.fem.rho_infinity, t.dt)
         self.substeps = friction_substeps(scene)
         alpha_m, alpha_f, beta_n, gamma, c_m, c_v = self.coefficients
@@ -286,8 +286,11 @@ class ImplicitRun:
                 "friction_substeps": self.substeps,
                 "contraction_bound": self.contraction}
 
-    def integrate(self, plan, frame=None, every=0, progress=None) -> Integration:
-        """Run ``plan.steps`` steps (or fewer, once settled: steady.py) from the preload."""
+    @property
+    def hint(self) -> str:
+        return f"try a smaller time.dt (the {self.name} integrator)"
+
+    def start(self, contact, scalars, recorder, steady) -> Started:
         scene, model, system = self.scene, self.model, self.system
         c, dt = scene.contact, scene.time.dt
         alpha_m, alpha_f, beta_n, gamma, c_m, c_v = self.coefficients
@@ -296,55 +299,38 @@ class ImplicitRun:
         nc = 3 * contacts
         law = friction_law_args(scene)
         use_energy = scene.fem.energy
-        ncols = len(columns(use_energy))
 
         q, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
-        length = np.zeros(contacts)
-        ex, ey = np.ones(contacts), np.zeros(contacts)  # before any motion the asperities point along X
-        normal = model.normal0.copy()
-        friction = np.zeros((contacts, 2))
         u0c = model.u0.reshape(-1, 3)[model.contact_nodes].copy()
         g_prev = np.zeros(nc + 1)   # g at the preload: q = 0, f_c = (0, 0, N0), F_d = 0
         g_prev[2:nc:3] = model.normal0
-        scalars = initial_scalars(extra=4)
         sums = np.zeros(4)
-        recorder = Recorder(plan, ncols)
-        steady = SteadyState(scene)
         work = Work.allocate(n, contacts, self.substeps)
 
         others = np.setdiff1d(np.arange(n), system.contact_dofs.ravel())
         operators = Operators(self.mass_op, self.stiffness_op, self.inv, self.Z, self.G, self.h,
                               self.e, system.contact_dofs, others, system.drive_index,
                               system.drive_x, system.drive_y)
-        contact = ContactData(u0c, model.normal0, model.penalty_share, model.area_share,
-                              self.tangent, self.assumed)
+        nodes = ContactData(u0c, model.normal0, model.penalty_share, model.area_share,
+                            self.tangent, self.assumed)
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
         scheme = Scheme(dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
                         ITERATION_TOLERANCE * c.F_N / c.k_t, MAX_ITERATIONS)
         drive = Drive(scene.drive.k_d, scene.drive.v_d)
         limits = Limits(c.F_N, scene.mu_max)
 
-        def state(step):
-            return State(step, step * dt, model.u0 + system.expand(q), system.expand(v),
-                         length, ex, ey, normal, friction, scalars[XB], scalars[YB])
+        def steps(first, last):
+            return implicit_steps(
+                first, last, operators, nodes, law, base, drive, scheme, limits, use_energy,
+                q, v, a, contact.length, contact.ex, contact.ey, contact.normal, contact.friction,
+                g_prev, scalars, sums, recorder.arrays, steady.arrays, work)
 
-        def advance(first, last):
-            failed, code, stop = implicit_steps(
-                first, last, operators, contact, law, base, drive, scheme, limits, use_energy,
-                q, v, a, length, ex, ey, normal, friction, g_prev, scalars, sums,
-                recorder.arrays, steady.arrays, work)
-            if code != trouble.OK:
-                raise trouble.failure(failed, code, scene,
-                                      f"try a smaller time.dt (the {self.name} integrator)")
-            return stop
+        return Started(steps, lambda: (model.u0 + system.expand(q), system.expand(v)))
 
-        last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress)
-        stats = {**loop_stats(scalars, loop_time),
-                 "iterations_max": int(scalars[ITER_MAX]),
-                 "iterations_mean": scalars[ITER_SUM] / max(last, 1),
-                 "iterations_stalled": int(scalars[STALLED]),
-                 **steady.report(last)}
-        return Integration(recorder.table(last), state(last), stats)
+    def stats(self, scalars, last: int) -> dict:
+        return {"iterations_max": int(scalars[ITER_MAX]),
+                "iterations_mean": scalars[ITER_SUM] / max(last, 1),
+                "iterations_stalled": int(scalars[STALLED])}
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)

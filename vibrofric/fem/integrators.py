@@ -1,6 +1,8 @@
 """The time integrators, selected by scene fem.integrator.
 
-An integrator is a class prepared once per run:
+An integrator is a time_loop.TimeLoop prepared once per run (the loop owns
+the initial state, the chunks, the failures and the statistics; each
+integrator its preparation and its compiled step):
 
     Run(scene, model)
         refuses, with SceneError naming the key, a scene it cannot run, and
@@ -31,32 +33,11 @@ The integrators, all driving the same per-node friction law (contact.py):
 """
 
 from ..scene import SceneError
-from . import explicit, step_cost
+from . import step_cost
+from .explicit import ExplicitRun
 from .generalized_alpha import full_system
 from .implicit import ImplicitRun
 from .reduction import ReducedRun
-
-
-class ExplicitRun:
-    """Central differences: the Abaqus/Explicit analogue (explicit.py)."""
-
-    name = "explicit"
-
-    def __init__(self, scene, model):
-        explicit.check(scene, model)
-        self.scene, self.model = scene, model
-        self.info = {}
-        self.choice = None
-
-    @property
-    def cost_per_step(self) -> float:
-        """ns a step, roughly (step_cost.COST): the product with K, the vectors, the friction law."""
-        cost = step_cost.COST
-        return (cost["sparse"] * self.model.stiffness.nnz + cost["vector"] * 4 * self.model.dofs
-                + cost["friction"] * self.model.contact_nodes.size)
-
-    def integrate(self, plan, frame=None, every=0, progress=None):
-        return explicit.integrate(self.model, self.scene, plan, frame, every, progress)
 
 
 def implicit_run(scene, model) -> ImplicitRun:

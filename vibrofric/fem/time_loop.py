@@ -1,0 +1,112 @@
+"""What every integrator's run does around its compiled step.
+
+An integrator (explicit.py, implicit.py, reduction.py) is a TimeLoop prepared
+once per run. It supplies its preparation (its ``__init__``: checks, a
+factorization, a reduction) and, through ``start``, its compiled step over a
+range of steps; the TimeLoop owns the rest, the same for all of them:
+
+    the initial state    the static preload, the asperities at rest along X
+                         (ContactState), the carried scalars, the recorder and
+                         the early-steady-state detector
+    the chunks           between ParaView frames and progress reports
+                         (recording.run_in_chunks)
+    the failures         a trouble code from the compiled step becomes a
+                         NumericalError with the integrator's hint (trouble.py)
+    the statistics       the loop's, the integrator's own, the early stop's
+
+    run.name, run.info, run.choice, run.cost_per_step  (integrators.py)
+    run.integrate(plan, frame=None, every=0, progress=None) -> recording.Integration
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import trouble
+from .recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
+                        loop_stats, run_in_chunks)
+from .steady import SteadyState
+
+
+@dataclass
+class ContactState:
+    """Every contact node's asperity and forces, carried from step to step."""
+
+    length: np.ndarray      # (contacts,) asperity length s
+    ex: np.ndarray          # (contacts,) asperity direction e
+    ey: np.ndarray
+    normal: np.ndarray      # (contacts,) normal force N_i
+    friction: np.ndarray    # (contacts, 2) friction force F_i (acts on the body as -F_i)
+
+    @classmethod
+    def at_preload(cls, model) -> "ContactState":
+        """The preload's normal forces; before any motion the asperities point along X."""
+        contacts = model.contact_nodes.size
+        return cls(np.zeros(contacts), np.ones(contacts), np.zeros(contacts),
+                   model.normal0.copy(), np.zeros((contacts, 2)))
+
+
+@dataclass
+class Started:
+    """What an integrator's ``start`` hands back to the TimeLoop.
+
+    steps(first, last) -> (failed step, trouble code, stop step): the compiled
+        step over steps first..last, on the arrays start() made
+    fields() -> (u, v): the node displacement (with the preload) and velocity now
+    """
+
+    steps: object
+    fields: object
+
+
+class TimeLoop:
+    """The common part of an integrator's run (see the module); subclasses set
+    ``name``, ``hint`` and ``extra_scalars`` and implement ``start`` (and
+    ``stats`` for statistics of their own)."""
+
+    name = ""
+    choice = None
+    extra_scalars = 0        # scalars the compiled step carries beyond recording's
+
+    @property
+    def hint(self) -> str:
+        """What to change when the compiled step reports trouble."""
+        return "try a smaller time.dt"
+
+    def start(self, contact: ContactState, scalars, recorder: Recorder,
+              steady: SteadyState) -> Started:
+        raise NotImplementedError
+
+    def stats(self, scalars, last: int) -> dict:
+        """The integrator's own statistics of a run that ended at step ``last``."""
+        return {}
+
+    def integrate(self, plan, frame=None, every=0, progress=None) -> Integration:
+        """Run ``plan.steps`` steps of time.dt from the static preload (fewer once
+        settled, steady.py), keep the rows ``plan`` (core.series.RecordPlan) asks
+        for, call ``frame(state)`` at t = 0, every ``every`` steps and at the end
+        and ``progress(step, steps)`` now and then (recording.run_in_chunks);
+        raise core.errors.NumericalError on numerical trouble."""
+        scene = self.scene
+        dt = scene.time.dt
+        contact = ContactState.at_preload(self.model)
+        scalars = initial_scalars(self.extra_scalars)
+        recorder = Recorder(plan, len(columns(scene.fem.energy)))
+        steady = SteadyState(scene)
+        started = self.start(contact, scalars, recorder, steady)
+
+        def state(step):
+            u, v = started.fields()
+            return State(step, step * dt, u, v, contact.length, contact.ex, contact.ey,
+                         contact.normal, contact.friction, scalars[XB], scalars[YB])
+
+        def advance(first, last):
+            failed, code, stop = started.steps(first, last)
+            if code != trouble.OK:
+                raise trouble.failure(failed, code, scene, self.hint)
+            return stop
+
+        last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress)
+        stats = {**loop_stats(scalars, loop_time), **self.stats(scalars, last),
+                 **steady.report(last)}
+        return Integration(recorder.table(last), state(last), stats)
