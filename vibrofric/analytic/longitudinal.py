@@ -52,7 +52,7 @@ def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, k_t, F_c, upd
 def run_longitudinal(scene) -> TimeSeries:
     """Integrate the scene's X motion with the 1D Dahl model (its theta and eta_y are ignored)."""
     if scene.contact.law != "dahl":
-        raise ValueError("contact.law: the 1D longitudinal model [23] is Dahl only")
+        raise ValueError("the 1D longitudinal model [23] is Dahl only")
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     out = np.empty((plan.rows, 8))
     failed = longitudinal_loop(
