@@ -460,3 +460,12 @@ def test_without_friction_the_block_swings_on_the_drive_spring():
     w_d = math.sqrt(k_d / m)
     rigid = k_d * v_d / w_d * np.sin(w_d * fe.series.t)
     assert np.abs(fe.series.F_d - rigid).max() < 0.01 * k_d * v_d / w_d
+
+
+def test_the_scene_offers_exactly_the_integrators_there_are():
+    """scene.validate refuses an unknown fem.integrator before any work; the
+    registry must hold every name it lets through, and no other."""
+    from vibrofric.fem.integrators import INTEGRATORS
+    from vibrofric.scene import CHOICES
+
+    assert set(CHOICES["fem.integrator"]) == set(INTEGRATORS)
