@@ -53,10 +53,9 @@ setup: $(VENV)/.installed
 
 setup-latest: $(VENV_LATEST)/.installed
 
-# Debian's packages: DOLFINx 0.5 and everything built against it (numpy,
-# numba, scipy, petsc4py, mpi4py) live under /usr/bin/python3.
-$(VENV)/.debs:
-	@missing=""; for p in $(DEBS); do \
+# The Debian packages of $(1) that are missing, installed (apt-get, as root or through sudo).
+define apt_install
+	@missing=""; for p in $(1); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -64,6 +63,12 @@ $(VENV)/.debs:
 	  $(SUDO) apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
 	fi
+endef
+
+# Debian's packages: DOLFINx 0.5 and everything built against it (numpy,
+# numba, scipy, petsc4py, mpi4py) live under /usr/bin/python3.
+$(VENV)/.debs:
+	$(call apt_install,$(DEBS))
 	/usr/bin/python3 -m venv --system-site-packages $(VENV)
 	touch $@
 
@@ -81,14 +86,7 @@ $(VENV)/.installed: $(VENV)/.debs pyproject.toml
 # install PyPI petsc4py beside it); pip picks numpy, numba and scipy to fit.
 # ffcx compiles the forms with the C compiler (gcc).
 $(VENV_LATEST)/.installed: pyproject.toml
-	@missing=""; for p in python3-venv gcc; do \
-	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	  echo "installing Debian packages:$$missing"; \
-	  $(SUDO) apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
-	fi
+	$(call apt_install,python3-venv gcc)
 	@if [ ! -x $(PY_LATEST) ]; then \
 	  python=""; for p in $(PYTHONS_LATEST); do \
 	    if command -v $$p >/dev/null 2>&1 && \
