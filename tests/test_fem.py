@@ -19,7 +19,7 @@ from vibrofric.analytic import breakaway_time, run_coupled, summarize  # noqa: E
 from vibrofric.core.errors import NumericalError  # noqa: E402
 from vibrofric.core.series import RecordPlan, full_resolution_steps  # noqa: E402
 from vibrofric.fem import FEResult, run_fe  # noqa: E402
-from vibrofric.fem import explicit, model as fem_model, run as fem_run  # noqa: E402
+from vibrofric.fem import explicit, model as fem_model, recording, run as fem_run  # noqa: E402
 from vibrofric.fem.contact import contact_forces  # noqa: E402
 from vibrofric.fem.paraview import FIELDS  # noqa: E402
 from vibrofric.fem.stability import max_frequency  # noqa: E402
@@ -322,6 +322,22 @@ def test_scenes_the_model_cannot_run_are_refused_naming_the_key(overrides, key, 
     with pytest.raises(SceneError) as error:
         run_fe(load(LONGITUDINAL, *SHORT, *overrides), comm)
     assert error.value.key == key
+
+
+@pytest.mark.parametrize("integrator, dt", [("explicit", 1e-6), ("implicit", 1e-5)])
+def test_progress_reports_leave_the_results_bit_identical(integrator, dt, comm):
+    """With a progress callback the compiled loop returns to Python every
+    recording.PROGRESS_STEPS steps; the loops keep their whole state in arrays,
+    so the results must not change by a bit. The reports rise to time.T."""
+    scene = load(LONGITUDINAL, "vibration.t_on=0.005", "time.T=0.012", "time.average_cycles=2",
+                 "fem.output_every=0", f"fem.integrator={integrator!r}", f"time.dt={dt!r}")
+    reports = []
+    quiet = run_fe(scene, comm)
+    reported = run_fe(scene, comm, progress=lambda done, total: reports.append((done, total)))
+    assert np.array_equal(quiet.series.table(), reported.series.table())
+    done = [d for d, _ in reports]
+    assert len(reports) >= scene.steps // recording.PROGRESS_STEPS and done == sorted(done)
+    assert done[-1] == pytest.approx(scene.time.T) and {t for _, t in reports} == {scene.time.T}
 
 
 def test_a_parallel_communicator_is_refused():
