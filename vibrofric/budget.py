@@ -21,6 +21,7 @@ from pathlib import Path
 
 from .core.series import COLUMNS, RecordPlan, full_resolution_steps
 from .meshes import level_counts
+from .output import existing_ancestor
 from .scene import SceneError
 
 FE_BYTES_PER_DOF = 4_000
@@ -58,10 +59,7 @@ def available_memory() -> int:
 
 def free_disk(directory: Path) -> int:
     """Bytes free on the file system that holds ``directory`` (or its nearest existing parent)."""
-    path = Path(directory).absolute()
-    while not path.exists():
-        path = path.parent
-    return shutil.disk_usage(path).free
+    return shutil.disk_usage(existing_ancestor(directory)).free
 
 
 def fe_dofs(scene) -> int:

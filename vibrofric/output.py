@@ -66,8 +66,9 @@ def write_marker(directory: Path, command: str) -> None:
     (Path(directory) / MARKER).write_text(json.dumps({"command": command}) + "\n")
 
 
-def _existing_ancestor(path: Path) -> Path:
-    path = path.absolute()
+def existing_ancestor(path: Path) -> Path:
+    """``path`` itself if it exists, else its nearest existing parent."""
+    path = Path(path).absolute()
     while not path.exists():
         path = path.parent
     return path
@@ -95,7 +96,7 @@ def check_target(target: Path, command: str, force: bool = False) -> str:
                 return "resume"
             raise OutputError(f"--out {target}: holds earlier results of vibrofric "
                               f"{marker['command']}; add --force to replace them")
-    _check_writable(_existing_ancestor(target.parent), target)
+    _check_writable(existing_ancestor(target.parent), target)
     return "replace" if target.is_dir() and any(target.iterdir()) else "new"
 
 
