@@ -257,6 +257,12 @@ def test_scene_values_are_checked_before_any_work(home, command, setting, said):
     assert tree(home) == before
 
 
+def test_sweep_of_only_invalid_points_reports_them(home):
+    done = vibrofric(["sweep", LONGITUDINAL, "--grid", "vibration.k_v=-1", "--out", "S"], home)
+    assert done.returncode == 4 and "Traceback" not in done.stderr
+    assert "failed vibration.k_v=-1.0: invalid scene: vibration.k_v" in done.stderr
+
+
 def test_worker_count_below_one_is_refused(home):
     done = vibrofric(["sweep", LONGITUDINAL, "--grid", "vibration.k_v=2", "--workers", "0"], home)
     assert done.returncode == 2 and "--workers 0: at least 1 process" in one_line(done.stderr)

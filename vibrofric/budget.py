@@ -92,6 +92,8 @@ def check(scenes, fe: bool, out: Path) -> None:
     run side by side on at most two processes) that cannot fit in this
     machine's memory, in the free disk under ``out``, or in LONGEST_RUN_S."""
     needs = [(scene, estimate(scene, fe)) for scene in scenes]
+    if not needs:  # a sweep none of whose points makes a scene: nothing will run
+        return
     scene, worst = max(needs, key=lambda pair: pair[1]["memory"])
     memory = available_memory()
     if worst["memory"] > memory:
