@@ -50,3 +50,21 @@ def test_the_check_sees_a_forbidden_import(tmp_path):
     module.write_text("def f():\n    from ..analytic.coupled import run_coupled\n"
                       "import vibrofric.batch\nfrom dolfinx import fem\n")
     assert {"analytic", "batch", "dolfinx"} <= imported(module)
+
+
+@pytest.mark.parametrize("layer", ["friction_law", "core", "analytic", "fem"])
+def test_only_the_scene_layer_names_scene_keys_in_errors(layer):
+    """The numerics raise their own errors (core.errors); scene.REFUSAL_KEYS names the key."""
+    raising = [str(path.relative_to(PACKAGE)) for path in sorted((PACKAGE / layer).rglob("*.py"))
+               if "SceneError" in {getattr(node, "id", getattr(node, "attr", None))
+                                   for node in ast.walk(ast.parse(path.read_text()))}]
+    assert raising == []
+
+
+def test_every_refusal_has_a_scene_key():
+    from vibrofric.core import errors
+    from vibrofric.scene import REFUSAL_KEYS
+
+    refusals = {cls for cls in vars(errors).values()
+                if isinstance(cls, type) and issubclass(cls, errors.Refusal) and cls is not errors.Refusal}
+    assert refusals and refusals == set(REFUSAL_KEYS)

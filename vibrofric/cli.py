@@ -8,10 +8,10 @@ from pathlib import Path
 
 from . import output, plots
 from . import scene as scene_module
-from .core.errors import NumericalError
+from .core.errors import NumericalError, Refusal
 from .output import OutputError
 from .parallel import interruptible
-from .scene import SceneError
+from .scene import SceneError, refused
 
 EXIT_BAD_INPUT = 2
 EXIT_NUMERICAL = 3
@@ -266,6 +266,9 @@ def main(argv=None) -> int:
         return EXIT_INTERRUPTED
     except SceneError as err:
         print(f"vibrofric: invalid scene: {err}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except Refusal as err:
+        print(f"vibrofric: invalid scene: {refused(err)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except OutputError as err:
         print(f"vibrofric: {err}", file=sys.stderr)

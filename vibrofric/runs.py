@@ -8,8 +8,10 @@ their own summary and plots.
 from dataclasses import dataclass
 
 from . import output
+from .core.errors import Refusal
 from .core.friction import slip_resolving_step
 from .core.series import TimeSeries
+from .scene import refused
 
 # The analytic stepper beside an FE run takes at most this step, whatever the
 # FE run's, and at most analytic.coupled.slip_resolving_step: the two-phase
@@ -58,14 +60,17 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None) -> FEBesideAn
     (FE), analytic_timeseries.csv and, if fem.output_every > 0, paraview/.
     ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe).
 
-    Raises SceneError or NumericalError (fem.run_fe), leaving whatever it wrote
+    Raises SceneError (the model's refusal, naming the key) or NumericalError, leaving whatever it wrote
     by then for the caller's output.staged() to drop.
     """
     from .analytic.run import run
     from .analytic.summary import summarize
     from .fem import run_fe
 
-    fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress)
+    try:
+        fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress)
+    except Refusal as refusal:
+        raise refused(refusal) from refusal
     analytic_series, analytic = run(analytic_scene(scene))
     info = fe.info
     fe_summary = {**summarize(fe.series, scene, info["wall_time_s"]),

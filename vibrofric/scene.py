@@ -15,6 +15,7 @@ from pathlib import Path
 
 import tomli_w
 
+from .core import errors
 from .meshes import level_counts
 
 
@@ -24,6 +25,23 @@ class SceneError(ValueError):
     def __init__(self, key: str, message: str):
         super().__init__(f"{key}: {message}")
         self.key = key
+
+
+# The scene key a user changes when the model refuses a scene (core.errors):
+# the numerics say what is wrong in the model's terms, the scene names the key.
+REFUSAL_KEYS = {
+    errors.StepTooLong: "time.dt",
+    errors.NormalLoadTooSmall: "contact.F_N",
+    errors.DriveTipsBlock: "drive.attach",
+    errors.UnsupportedDrive: "drive.mode",
+    errors.NoEnergyBalance: "fem.energy",
+    errors.ReductionFailed: "fem.cutoff",
+}
+
+
+def refused(refusal: errors.Refusal) -> SceneError:
+    """The model's refusal as a SceneError naming the key to change."""
+    return SceneError(REFUSAL_KEYS[type(refusal)], str(refusal))
 
 
 @dataclass(frozen=True)

@@ -5,5 +5,5 @@
     base_motion  the vibrating base (eqs 23-25), compiled
     friction     the scene's friction law as the steppers take it: kernel
                  arguments, divergence bound, slip-resolving step
-    errors       NumericalError
+    errors       NumericalError, and the refusals (Refusal) of a scene a model cannot run
 """

@@ -1,5 +1,38 @@
-"""The errors of the numerics, which the command line reports in words (cli.py)."""
+"""The errors of the numerics, in the model's own terms.
+
+The numerics never name scene keys: the scene layer maps each refusal to the
+key a user changes (scene.REFUSAL_KEYS), and the command line reports both
+kinds in words (cli.py).
+"""
 
 
 class NumericalError(RuntimeError):
     """A run whose numbers went wrong (NaN, a diverging update); never written as results."""
+
+
+class Refusal(ValueError):
+    """A model that cannot run the scene as given, refused before any work."""
+
+
+class StepTooLong(Refusal):
+    """The time step is above what the integrator can take (stability, contact iteration)."""
+
+
+class NormalLoadTooSmall(Refusal):
+    """The normal load cannot hold the block on the base (below its weight, or no node in contact)."""
+
+
+class DriveTipsBlock(Refusal):
+    """The drive's line of action would tip the block over."""
+
+
+class UnsupportedDrive(Refusal):
+    """A drive the model does not implement."""
+
+
+class NoEnergyBalance(Refusal):
+    """An energy balance asked of an integrator that keeps none."""
+
+
+class ReductionFailed(Refusal):
+    """The reduced model could not be checked against the full one."""

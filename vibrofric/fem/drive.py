@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from .. import meshes
-from ..scene import SceneError
+from ..core.errors import UnsupportedDrive
 
 ATTACH_FACES = {"contact-plane": meshes.CONTACT, "front-face": meshes.FRONT}
 
@@ -35,7 +35,7 @@ ATTACH_FACES = {"contact-plane": meshes.CONTACT, "front-face": meshes.FRONT}
 def attachment(scene, face_area: dict):
     """(nodes, weights) of the drive's attachment: the face's nodes by area share."""
     if scene.drive.mode != "spring":
-        raise SceneError("drive.mode", f"{scene.drive.mode!r} is not implemented by the FE model; "
+        raise UnsupportedDrive(f"drive mode {scene.drive.mode!r} is not implemented by the FE model; "
                                        "use \"spring\" (the paper's drive spring)")
     area = face_area[ATTACH_FACES[scene.drive.attach]]
     nodes = np.flatnonzero(area > 0.0).astype(np.int64)

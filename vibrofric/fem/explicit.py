@@ -34,7 +34,7 @@ from numba import njit
 from ..core.base_motion import base_displacement, vibration_axis
 from ..core.friction import friction_law_args
 from ..friction_law.kernels import FASTMATH
-from ..scene import SceneError
+from ..core.errors import NoEnergyBalance
 from . import step_cost, trouble
 from .contact import contact_forces
 from .drive import attachment_position
@@ -137,7 +137,7 @@ def explicit_steps(first, last, dt,
 class ExplicitRun(TimeLoop):
     """Central differences: the Abaqus/Explicit analogue, prepared for a scene.
 
-    Refuses (SceneError) a step above the stable one, and fem.energy.
+    Refuses (core.errors.Refusal) a step above the stable one, and fem.energy.
     """
 
     name = "explicit"
@@ -145,7 +145,7 @@ class ExplicitRun(TimeLoop):
     def __init__(self, scene, model):
         check_step(scene, model)
         if scene.fem.energy:
-            raise SceneError("fem.energy", "the explicit integrator keeps no energy balance; "
+            raise NoEnergyBalance("the explicit integrator keeps no energy balance; "
                                            "use fem.integrator = \"implicit\" or \"reduced\"")
         self.scene, self.model = scene, model
         self.info = {}

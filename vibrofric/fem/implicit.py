@@ -109,7 +109,7 @@ from numba import njit
 from ..core.base_motion import base_displacement, vibration_axis
 from ..core.friction import friction_law_args
 from ..friction_law.kernels import FASTMATH
-from ..scene import SceneError
+from ..core.errors import StepTooLong
 from . import energy, recording, trouble
 from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRACTION,
                             MAX_ITERATIONS, MIN_STEP, STALL_FACTOR, ContactData, StepStart,
@@ -207,7 +207,7 @@ class Limits(NamedTuple):
 class ImplicitRun(TimeLoop):
     """An implicit run prepared for a scene: the factorization and the contact operator.
 
-    Raises SceneError (naming the key) for a scene it cannot run; ``info``
+    Raises core.errors.Refusal for a scene it cannot run; ``info``
     says what was prepared; ``integrate`` (time_loop.TimeLoop) runs it.
     """
 
@@ -252,7 +252,7 @@ class ImplicitRun(TimeLoop):
         self.factor_time = time.perf_counter() - start
         self.contraction = self._contraction(held)
         if self.contraction > MAX_CONTRACTION:
-            raise SceneError("time.dt", f"{t.dt:g} s is too long for the {name} integrator's "
+            raise StepTooLong(f"time step {t.dt:g} s is too long for the {name} integrator's "
                                         f"contact iteration with this friction law (estimated "
                                         f"contraction {self.contraction:.2f} > {MAX_CONTRACTION}; "
                                         "LuGre's dampings h_t, h_v and a large F_s - F_c raise "

@@ -5,7 +5,7 @@ the initial state, the chunks, the failures and the statistics; each
 integrator its preparation and its compiled step):
 
     Run(scene, model)
-        refuses, with SceneError naming the key, a scene it cannot run, and
+        refuses (core.errors.Refusal) a scene it cannot run, and
         does the run's set-up (a factorization, a reduction); run_fe calls it
         before any output is opened
     run.name, run.info, run.choice
@@ -32,7 +32,7 @@ The integrators, all driving the same per-node friction law (contact.py):
     auto       the cheapest of those that meets fem.accuracy (choose() below)
 """
 
-from ..scene import SceneError
+from ..core.errors import Refusal
 from . import step_cost
 from .explicit import ExplicitRun
 from .generalized_alpha import full_system
@@ -69,7 +69,7 @@ def choose(scene, model):
     for name in ("explicit", "reduced"):
         try:
             run = INTEGRATORS[name](scene, model)
-        except SceneError as error:
+        except Refusal as error:
             reasons.append(f"{name} refused ({error})")
             continue
         if name == "reduced":

@@ -13,19 +13,19 @@ with the pressure sized so that the static normal reaction of the base equals F_
 
 import numpy as np
 
-from ..scene import SceneError
+from ..core.errors import NormalLoadTooSmall
 
 
 def top_pressure(scene, block_mass: float, top_area: float) -> float:
     """The uniform top pressure p (Pa) that brings the normal reaction to F_N.
 
     A block heavier than F_N / g would need the top pulled up (p < 0): that is
-    not the paper's load, and the run is refused naming contact.F_N.
+    not the paper's load, and the run is refused.
     """
     weight = block_mass * scene.body.gravity
     pressure = (scene.contact.F_N - weight) / top_area
     if pressure < 0.0:
-        raise SceneError("contact.F_N", f"{scene.contact.F_N} N is less than the block's own weight "
+        raise NormalLoadTooSmall(f"normal load {scene.contact.F_N} N is less than the block's own weight "
                                         f"{weight:.4g} N ({block_mass:.4g} kg at g = {scene.body.gravity}"
                                         " m/s^2): the top would have to be pulled up instead of pressed")
     return pressure

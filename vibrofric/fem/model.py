@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import meshes
-from ..scene import SceneError
+from ..core.errors import DriveTipsBlock, StepTooLong
 from . import stability
 from .assembly import Discretization, assemble_block
 from .contact import default_penalty
@@ -97,14 +97,14 @@ def check_tipping(scene) -> None:
     Lx, _, Lz = scene.body.size
     mu_max = scene.mu_max
     if mu_max * Lz >= Lx:
-        raise SceneError("drive.attach", f"a front-face drive at mid-height would tip the block "
+        raise DriveTipsBlock(f"a front-face drive at mid-height would tip the block "
                                          f"(friction coefficient {mu_max:g} >= L_x / L_z = "
                                          f"{Lx / Lz:.3g}) and leave its back off the base; "
                                          "use \"contact-plane\"")
 
 
 def build_model(scene, comm) -> FEModel:
-    """Everything a run needs before its first step; refuses bad scenes with SceneError."""
+    """Everything a run needs before its first step; refuses a scene it cannot run (core.errors.Refusal)."""
     body = scene.body
     check_tipping(scene)
     rho = density(scene)
@@ -145,7 +145,7 @@ def build_model(scene, comm) -> FEModel:
 def check_step(scene, model: FEModel) -> None:
     """Refuse a time.dt above the stable step."""
     if scene.time.dt > model.dt_stable:
-        raise SceneError("time.dt", f"{scene.time.dt:g} s is above the explicit stable step "
+        raise StepTooLong(f"time step {scene.time.dt:g} s is above the explicit stable step "
                                     f"{model.dt_stable:.4g} s of mesh {scene.fem.mesh!r} "
                                     f"(highest frequency {model.omega_max / (2 * math.pi):.4g} Hz, "
                                     f"damping {model.beta:.3g} s): use time.dt <= "

@@ -23,7 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from ..scene import SceneError
+from ..core.errors import NormalLoadTooSmall
 
 REGULARIZATION = 1e-9
 RELATIVE_TOLERANCE = 1e-8  # on sum N_i = F_N: a direct solve gives ~1e-12
@@ -32,7 +32,7 @@ RELATIVE_TOLERANCE = 1e-8  # on sum N_i = F_N: a direct solve gives ~1e-12
 def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N):
     """Return (u0, normal): the static displacement (dofs,) and contact forces (n,).
 
-    Raises SceneError("contact.F_N") if no node stays in contact.
+    Raises NormalLoadTooSmall if no node stays in contact.
     """
     dofs = stiffness.shape[0]
     active = np.ones(nodes.size, dtype=bool)
@@ -47,7 +47,7 @@ def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N):
             break
         active &= ~lifted
         if not active.any():
-            raise SceneError("contact.F_N", "no contact node stays on the base under the preload")
+            raise NormalLoadTooSmall("no contact node stays on the base under the preload")
     normal = np.where(active, penalty_share * np.maximum(-gap, 0.0), 0.0)
     if not np.isclose(normal.sum(), F_N, rtol=RELATIVE_TOLERANCE, atol=0.0):
         raise RuntimeError(f"the static normal reaction {normal.sum():.12g} N does not balance "

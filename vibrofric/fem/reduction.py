@@ -62,7 +62,7 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from ..scene import SceneError
+from ..core.errors import ReductionFailed
 from .generalized_alpha import LinearSystem
 from .implicit import ImplicitRun
 from .linalg import symmetric_lu
@@ -207,7 +207,7 @@ class ReducedRun(ImplicitRun):
         self.error = compliance_error(model, reduction, scene)
         self.error_time = time.perf_counter() - start
         if not np.isfinite(self.error["max"]):
-            raise SceneError("fem.cutoff", "the reduced model's compliance could not be compared "
+            raise ReductionFailed("the reduced model's compliance could not be compared "
                                            "with the full model's")
 
     @property

@@ -67,7 +67,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     progress if given, called as progress(t_done_s, t_total_s) every few
              thousand steps of the time loop (simulated seconds)
 
-    Raises SceneError (naming the key) for a scene the model cannot run, before
+    Raises core.errors.Refusal for a scene the model cannot run, before
     the first step, and NumericalError for a run that went wrong (NaN, a
     diverging asperity, the normal force blowing up or ringing).
 
