@@ -49,9 +49,8 @@ and 12.7 kHz).
 
 Cost. The set-up factorizes K_ii, solves it for every boundary DOF (3 per
 contact node), forms T^T M T and T^T K T (dense, dofs x size^2) and, for the
-error, factorizes the full complex matrix at three frequencies: 0.3 s on the
-coarse mesh, ~7 s on the medium one, ~7-11 min on the fine one (1,071
-boundary DOFs). A step costs ~3 size^2 multiply-adds: 0.1, 1 and 13 ms.
+error, factorizes the full complex matrix at three frequencies; a step costs
+~3 size^2 multiply-adds. ``vibrofric bench`` reports both per mesh level.
 """
 
 import math
