@@ -24,7 +24,6 @@ from vibrofric.fem.contact import contact_forces  # noqa: E402
 from vibrofric.fem.paraview import FIELDS  # noqa: E402
 from vibrofric.fem.stability import max_frequency  # noqa: E402
 from vibrofric.fem.drive import drive_stiffness_action  # noqa: E402
-from vibrofric.core.friction import friction_law_args  # noqa: E402
 from vibrofric.scene import REFUSAL_KEYS  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -56,7 +55,7 @@ def comm():
 def test_one_contact_node_under_the_lumped_trajectory_gives_the_lumped_forces(overrides):
     """contact_forces on ONE node (area share 1, normal force F_N), driven by the
     analytic stepper's own body and base trajectory, must return the stepper's
-    friction force at every step. Both call the same node_step with the same
+    friction force at every step. Both call the same law update with the same
     increments, so they agree to rounding: 1e-10 relative leaves room only for
     a different order of floating-point operations, not for a different slip,
     free-end increment, stiffness share or Coulomb limit."""
@@ -65,21 +64,21 @@ def test_one_contact_node_under_the_lumped_trajectory_gives_the_lumped_forces(ov
     lumped = run_coupled(scene)
     assert lumped.t.size == scene.steps  # every step kept
 
-    law = friction_law_args(scene)
+    law = scene.friction
+    node_forces = contact_forces.for_law(law.law)
     F_N = scene.contact.F_N
     penalty = np.array([1.0])          # k_pen w = 1 N/m, so u_z = -F_N gives N = F_N exactly
     share = np.array([1.0])
-    length, ex, ey = np.zeros(1), np.ones(1), np.zeros(1)
+    state = law.law.initial_state(1)
     normal, force = np.zeros(1), np.zeros((1, 2))
     old = np.array([[0.0, 0.0, -F_N]])
     xb = yb = 0.0
     fe = np.empty((scene.steps, 2))
     for i in range(scene.steps):
         new = np.array([[lumped.x[i], lumped.y[i], -F_N]])
-        state = (length, ex, ey)
-        total = contact_forces(old, new, np.zeros(1), lumped.x_b[i] - xb, lumped.y_b[i] - yb,
-                               scene.contact.eta_y, penalty, share, 0.0, law, scene.time.dt,
-                               state, normal, force)
+        total = node_forces(old, new, np.zeros(1), lumped.x_b[i] - xb, lumped.y_b[i] - yb,
+                            scene.contact.eta_y, penalty, share, 0.0, law.params, scene.time.dt,
+                            state, normal, force)
         assert total[0] == F_N
         fe[i] = total[1:]
         old, xb, yb = new, lumped.x_b[i], lumped.y_b[i]

@@ -90,7 +90,7 @@ def test_stick_slip_is_resolved_and_bounded(stick_slip):
         # it breaks loose, v_d sqrt(m k_d) = 0.01 N, and drops well below F_c in each slip
         peak, trough = series.F_d[before].max(), series.F_d[before].min()
         overshoot = scene.drive.v_d * math.sqrt(scene.body.mass * scene.drive.k_d)
-        assert peak <= scene.F_s + overshoot and trough < 0.8 * scene.F_c
+        assert peak <= scene.contact.F_s + overshoot and trough < 0.8 * scene.F_c
         extremes.append((peak, trough))
     np.testing.assert_allclose(extremes[0], extremes[1], rtol=1e-3)  # the same cycle at half the step
 

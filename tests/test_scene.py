@@ -74,7 +74,7 @@ def test_defaults_and_overrides(tmp_path):
 
 
 def test_scene_round_trips_through_toml(load_scene, tmp_path):
-    scene = load_scene("transverse", contact__F_s=6.0)
+    scene = load_scene("transverse", contact__law="lugre", contact__F_s=6.0)
     path = tmp_path / "again.toml"
     path.write_text(scene_module.to_toml(scene))
     again = scene_module.load(path)

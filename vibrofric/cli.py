@@ -113,12 +113,9 @@ def _target(args, command: str):
 
 
 def _check_stepper(scene, stepper: str) -> None:
-    """The 1D longitudinal model [23] is Dahl with the base moving along X only."""
+    """The 1D longitudinal model [23] has the base moving along X only."""
     if stepper != "longitudinal":
         return
-    if scene.contact.law != "dahl":
-        raise SceneError("contact.law", "the 1D longitudinal model [23] is Dahl only; "
-                                        "use --stepper coupled")
     if scene.vibrated and scene.vibration.theta_deg % 180.0 != 0.0:
         raise SceneError("vibration.theta_deg",
                          f"{scene.vibration.theta_deg:g} deg: the 1D longitudinal model [23] "

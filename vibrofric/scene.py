@@ -7,6 +7,7 @@ value is checked before any work: a bad one raises ``SceneError`` naming it.
 """
 
 import dataclasses
+import functools
 import math
 import tomllib
 import typing
@@ -16,6 +17,7 @@ from pathlib import Path
 import tomli_w
 
 from .core import errors
+from .friction_law import ContactLaw, LawError, ParameterError, load_law
 from .meshes import level_counts
 
 
@@ -56,16 +58,30 @@ class Body:
 
 @dataclass(frozen=True)
 class Contact:
-    law: str = "dahl"                      # "dahl" | "lugre"
-    mu: float = 0.1
+    """The contact: its friction law and normal load; every other key of [contact] is
+    a parameter of the law (friction_law/contract.py), readable as ``contact.<name>``."""
+
+    law: str = "dahl"                      # "dahl" | "lugre" | a law file (.py; relative to the
+                                           # scene file) | an importable module
     F_N: float = 55.0                      # N, total normal reaction
-    k_t: float = 80e6                      # N/m, tangential stiffness of the whole contact
     eta_y: float = 0.71                    # transverse vibration transfer coefficient (eq 30)
-    update: str = "exact"                  # "paper" (explicit, eq 18) | "exact"
-    h_t: float = 0.0                       # LuGre contact damping, N s/m
-    h_v: float = 0.0                       # LuGre viscous damping, N s/m
-    F_s: typing.Optional[float] = None     # LuGre stiction force, N; default mu F_N
-    v_s: float = 1e-3                      # LuGre Stribeck velocity, m/s
+    parameters: dict = field(default_factory=dict)  # the law's parameters the scene sets
+
+    @property
+    def law_values(self) -> dict:
+        """Every parameter of the law: those the scene sets, the law's defaults for the rest."""
+        return load_law(self.law).values(self.parameters)
+
+    def __getattr__(self, name):
+        if name.startswith("__") or "parameters" not in self.__dict__:
+            raise AttributeError(name)
+        values = self.law_values
+        if name in values:
+            return values[name]
+        raise AttributeError(f"the contact has no {name!r}: not a parameter of its law")
+
+
+CONTACT_KEYS = ("law", "F_N", "eta_y")     # the model's keys in [contact]; the rest are the law's
 
 
 @dataclass(frozen=True)
@@ -123,8 +139,6 @@ SECTIONS = {"body": Body, "contact": Contact, "drive": Drive,
             "vibration": Vibration, "time": Time, "fem": Fem}
 
 CHOICES = {
-    "contact.law": ("dahl", "lugre"),
-    "contact.update": ("paper", "exact"),
     "drive.attach": ("contact-plane", "front-face"),
     "drive.mode": ("spring", "velocity"),
     "fem.integrator": ("explicit", "implicit", "reduced", "auto"),
@@ -142,6 +156,17 @@ class Scene:
     fem: Fem = field(default_factory=Fem)
 
     # Derived quantities (docs/model.md section 1).
+    @functools.cached_property
+    def friction(self) -> ContactLaw:
+        """The contact's friction law with its parameter values (friction_law.ContactLaw)."""
+        c = self.contact
+        return ContactLaw(load_law(c.law), c.law_values, c.F_N)
+
+    @property
+    def law_bounds(self):
+        """What the integrators need of the law at time.dt (friction_law.Bounds)."""
+        return self.friction.bounds(self.time.dt)
+
     @property
     def vibrated(self) -> bool:
         return self.vibration.k_v > 0.0
@@ -162,17 +187,13 @@ class Scene:
 
     @property
     def F_c(self) -> float:
-        """Coulomb force mu F_N (eq 3)."""
-        return self.contact.mu * self.contact.F_N
-
-    @property
-    def F_s(self) -> float:
-        return self.F_c if self.contact.F_s is None else self.contact.F_s
+        """The steady sliding force of the law (Dahl: the Coulomb force mu F_N, eq 3)."""
+        return self.law_bounds.friction_coefficient * self.contact.F_N
 
     @property
     def mu_max(self) -> float:
-        """The largest friction coefficient the law reaches: max(mu, F_s / F_N)."""
-        return max(self.contact.mu, self.F_s / self.contact.F_N)
+        """The largest friction coefficient the law reaches (LuGre: max(mu, F_s / F_N))."""
+        return self.law_bounds.max_friction_coefficient
 
     @property
     def drive_period(self) -> float:
@@ -211,9 +232,13 @@ class Scene:
 
 
 def _split_key(key: str):
+    """(section, name) of a scene key; a [contact] key other than CONTACT_KEYS is a law
+    parameter, checked against the law when the scene is built (_contact)."""
     section, _, name = key.partition(".")
     if section not in SECTIONS:
         raise SceneError(key, f"unknown section [{section}]; known: {', '.join(SECTIONS)}")
+    if section == "contact" and name.isidentifier() and name != "parameters":
+        return section, name
     if name not in {f.name for f in fields(SECTIONS[section])}:
         known = ", ".join(f.name for f in fields(SECTIONS[section]))
         raise SceneError(key, f"unknown key in [{section}]; known: {known}")
@@ -258,6 +283,9 @@ def from_dict(raw: dict, name: str = "scene") -> Scene:
             raise SceneError(section, f"unknown section [{section}]; known: {', '.join(SECTIONS)}")
         if not isinstance(values, dict):
             raise SceneError(section, "expected a table of keys")
+        if section == "contact":
+            sections[section] = _contact(values)
+            continue
         hints = typing.get_type_hints(SECTIONS[section])
         checked = {}
         for key, value in values.items():
@@ -267,6 +295,33 @@ def from_dict(raw: dict, name: str = "scene") -> Scene:
     scene = Scene(name=name, **sections)
     validate(scene)
     return scene
+
+
+def _contact(values: dict) -> Contact:
+    """[contact]: the model's keys, then the law's parameters checked against its declaration."""
+    hints = typing.get_type_hints(Contact)
+    own = {key: _check_type(f"contact.{key}", values[key], hints[key])
+           for key in CONTACT_KEYS if key in values}
+    law_name = own.get("law", Contact.law)
+    try:
+        law = load_law(law_name)
+    except LawError as err:
+        raise SceneError("contact.law", str(err)) from None
+    given = {key: value for key, value in values.items() if key not in CONTACT_KEYS}
+    try:
+        values = law.values(given)
+        law.check(ContactLaw(law, values, own.get("F_N", Contact.F_N)).p)
+    except ParameterError as err:
+        raise SceneError(f"contact.{err.name}", str(err)) from None
+    return Contact(**own, parameters={key: values[key] for key in given})
+
+
+def _law_path(value, base: Path):
+    """A law file named relative to ``base`` as an absolute path; other values as they are."""
+    if isinstance(value, str) and (value.endswith(".py") or "/" in value):
+        path = Path(value).expanduser()
+        return str(path if path.is_absolute() else (base / path).resolve())
+    return value
 
 
 def parse_value(text: str):
@@ -310,10 +365,13 @@ def load(path, overrides=()) -> Scene:
     for section, values in raw.items():
         if not isinstance(values, dict):
             raise SceneError(section, f"expected a table [{section}] of keys, got {values!r}")
+    if "law" in raw.get("contact", {}):  # a law file is named relative to the scene file
+        raw["contact"]["law"] = _law_path(raw["contact"]["law"], path.resolve().parent)
     for text in overrides:
         key, value = parse_assignment(text)
         section, name = key.split(".")
-        raw.setdefault(section, {})[name] = value
+        # ... and on the command line, relative to the current directory
+        raw.setdefault(section, {})[name] = _law_path(value, Path.cwd()) if key == "contact.law" else value
     return from_dict(raw, path.stem)
 
 
@@ -326,7 +384,11 @@ def coerce(key: str, value):
     """``value`` as the scene would hold it for ``key`` (an integer for a
     float key becomes a float: 2 and 2.0 are one value); raises SceneError."""
     section, name = _split_key(key)
-    return _check_type(key, value, typing.get_type_hints(SECTIONS[section])[name])
+    hints = typing.get_type_hints(SECTIONS[section])
+    if name not in hints:  # a law parameter: a number as a float, else as given
+        is_number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        return _check_type(key, value, float) if is_number else value
+    return _check_type(key, value, hints[name])
 
 
 def to_dict(scene: Scene) -> dict:
@@ -334,6 +396,8 @@ def to_dict(scene: Scene) -> dict:
     out = {}
     for section in SECTIONS:
         values = dataclasses.asdict(getattr(scene, section))
+        if section == "contact":
+            values.update(values.pop("parameters"))
         out[section] = {k: (list(v) if isinstance(v, tuple) else v)
                         for k, v in values.items() if v is not None}
     return out
@@ -354,10 +418,10 @@ def validate(scene: Scene) -> None:
     for key, choices in CHOICES.items():
         if scene.get(key) not in choices:
             raise SceneError(key, f"must be one of {', '.join(choices)}, got {scene.get(key)!r}")
-    for key in ("body.mass", "body.E", "contact.F_N", "contact.k_t", "drive.k_d", "drive.v_d",
-                "vibration.f", "time.T", "time.dt", "time.series_dt", "contact.v_s"):
+    for key in ("body.mass", "body.E", "contact.F_N", "drive.k_d", "drive.v_d",
+                "vibration.f", "time.T", "time.dt", "time.series_dt"):
         _positive(scene, key)
-    for key in ("contact.mu", "contact.h_t", "contact.h_v", "body.gravity",
+    for key in ("body.gravity",
                 "vibration.k_v", "vibration.t_on", "fem.damping", "fem.output_every"):
         _positive(scene, key, allow_zero=True)
     if any(v <= 0 for v in scene.body.size):
@@ -368,8 +432,6 @@ def validate(scene: Scene) -> None:
         raise SceneError("body.nu", f"must lie in (-1, 0.5), got {scene.body.nu}")
     if not 0.0 <= scene.contact.eta_y <= 1.0:
         raise SceneError("contact.eta_y", f"must lie in [0, 1], got {scene.contact.eta_y}")
-    if scene.contact.F_s is not None and scene.contact.F_s < 0:
-        raise SceneError("contact.F_s", f"must be >= 0, got {scene.contact.F_s}")
     if scene.fem.penalty is not None and scene.fem.penalty <= 0:
         raise SceneError("fem.penalty", f"must be > 0, got {scene.fem.penalty}")
     if not 0.0 <= scene.fem.rho_infinity <= 1.0:

@@ -2,8 +2,8 @@
 
 A rigid body of mass m is pulled in X through the drive spring k_d from the
 point B moving at v_d (eq 17) and rubs on the base through one lumped asperity,
-updated in two phases by ``friction_law.node_step`` (the one-node case of the
-FE model's per-node update). The base vibrates along the axis at theta
+updated by the scene's friction law (friction_law/contract.py: the
+one-node case of the FE model's per-node update, area share 1). The base vibrates along the axis at theta
 (eqs 23-25). Physical sign convention: the slip is body minus base.
 
 Body motion (eqs 12, 15-16) is integrated by semi-implicit (symplectic) Euler:
@@ -20,10 +20,10 @@ from numba import njit
 
 from ..core.base_motion import base_displacement, vibration_axis
 from ..core.errors import NumericalError
-from ..core.friction import divergence_bound, friction_law_args
+from ..core.friction import divergence_force
 from ..core.series import RecordPlan, TimeSeries, full_resolution_steps
-from ..friction_law import node_step
-from ..friction_law.kernels import FASTMATH
+from ..friction_law import law_kernel
+from ..friction_law.contract import FASTMATH
 
 
 @njit(cache=True, error_model="numpy")
@@ -38,13 +38,12 @@ def _record(out, j, t, f_d, f_x, f_y, x, y, xb, yb):
     out[j, 7] = yb
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def coupled_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_theta, eta_y,
-                 F_N, k_t, mu, mu_s, v_s, h_t, h_v, law, update, dt,
-                 steps, stride, full_from, s_max, out):
-    """Run ``steps`` steps; keep rows in ``out``. Returns the failing step, or 0."""
+                 F_N, state, params, dt, steps, stride, full_from, f_max, out):
+    """Run ``steps`` steps from the law's ``state`` at rest; keep rows in ``out``.
+    Returns the failing step, or 0."""
     x = y = vx = vy = 0.0           # body displacement and velocity (eqs 13-16)
-    s, ex, ey = 0.0, 1.0, 0.0       # asperity N' - M: length and direction (eqs 7-11)
     f_x = f_y = 0.0                 # friction force (eqs 38-39)
     xb = yb = 0.0                   # base displacement (eqs 24-25)
     sin_phase, cos_phase = 0.0, 1.0
@@ -62,14 +61,13 @@ def coupled_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_the
         u, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, u0, sin_phase, cos_phase,
                                                     cos_step, sin_step)  # eq 23
         xb_new, yb_new = u * cos_theta, u * sin_theta  # eqs 24-25
-        s, ex, ey, f_x, f_y = node_step(
-            s, ex, ey,
+        f_x, f_y = law_update(  # noqa: F821 (the scene's law, friction_law/specialize.py)
             (x_new - x) - (xb_new - xb), y_new - y,  # phase 1: body minus base in X (eq 14)
             0.0, eta_y * (yb_new - yb),              # phase 2: free end by eta_y dy_b (eq 30)
-            F_N, k_t, mu, mu_s, v_s, h_t, h_v, law, update, dt)
+            F_N, 1.0, state, params, dt)
         x, y, xb, yb = x_new, y_new, xb_new, yb_new
         f_d = f_x if prescribed else k_d * (v_d * t - x)  # eq 17
-        if not (s <= s_max and math.isfinite(f_d)):
+        if not (math.sqrt(f_x * f_x + f_y * f_y) <= f_max and math.isfinite(f_d)):
             return i
         if i >= full_from or i % stride == 0:
             _record(out, j, t, f_d, f_x, f_y, x, y, xb, yb)
@@ -83,8 +81,8 @@ def check_finished(failed_step: int, scene) -> None:
         c, dt = scene.contact, scene.time.dt
         hint = ("the paper's explicit update is stable only while |v_r| dt < 2 s_c; "
                 "use contact.update = \"exact\" or a smaller time.dt"
-                if c.update == "paper" else "try a smaller time.dt")
-        raise NumericalError(f"the asperity update diverged at t = {failed_step * dt:.6g} s "
+                if c.law_values.get("update") == "paper" else "try a smaller time.dt")
+        raise NumericalError(f"the friction law's update diverged at t = {failed_step * dt:.6g} s "
                              f"(step {failed_step}, dt = {dt:g} s): {hint}")
 
 
@@ -93,10 +91,11 @@ def run_coupled(scene) -> TimeSeries:
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     out = np.empty((plan.rows, 8))
     cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
-    failed = coupled_loop(
+    law = scene.friction
+    failed = coupled_loop.for_law(law.law)(
         scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.mode == "velocity",
         scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
-        scene.contact.eta_y, scene.contact.F_N, *friction_law_args(scene), scene.time.dt,
-        plan.steps, plan.stride, plan.full_from, divergence_bound(scene), out)
+        scene.contact.eta_y, scene.contact.F_N, law.law.initial_state(1)[0], law.params,
+        scene.time.dt, plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
     check_finished(failed, scene)
     return TimeSeries.from_table(out)

@@ -1,30 +1,27 @@
 """The 1D longitudinal model of the paper's reference [23].
 
-Dahl in one dimension with the signed deformation s and the relative velocity
-v_r = x' - x_b' (eqs 4-6): ds/dt = v_r - (k_t / F_c) |v_r| s, F = k_t s.
-Kept as its own short stepper so that the coupled stepper at theta = 0 can be
-checked against it.
+The body and the base move along X only: the friction law sees a slip along
+X and no phase 2 (eqs 4-6 for Dahl: ds/dt = v_r - (k_t / F_c) |v_r| s,
+F = k_t s). Kept as its own short stepper so that the coupled stepper at
+theta = 0 can be checked against it, for any law.
 """
 
 import math
 
 import numpy as np
-from numba import njit
 
-from ..friction_law import relax_length
-from ..friction_law.kernels import FASTMATH
-from ..friction_law.law import UPDATES
 from ..core.base_motion import base_displacement
-from ..core.friction import divergence_bound
+from ..core.friction import divergence_force
 from ..core.series import RecordPlan, TimeSeries, full_resolution_steps
+from ..friction_law import law_kernel
+from ..friction_law.contract import FASTMATH
 from .coupled import _record, check_finished
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, k_t, F_c, update, dt,
-                      steps, stride, full_from, s_max, out):
-    x = v = s = f = x_b = 0.0
-    s_c = F_c / k_t
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, F_N, state, params, dt,
+                      steps, stride, full_from, f_max, out):
+    x = v = f = x_b = 0.0
     sin_phase, cos_phase = 0.0, 1.0
     cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
     j = 0
@@ -37,11 +34,11 @@ def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, k_t, F_c, upd
             x_new = x + dt * v
         x_b_new, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, u0, sin_phase,
                                                           cos_phase, cos_step, sin_step)  # eq 23
-        s = relax_length(s, (x_new - x) - (x_b_new - x_b), s_c, update)  # eq 6
-        f = k_t * s                                                     # eq 1
+        f, _ = law_update((x_new - x) - (x_b_new - x_b), 0.0, 0.0, 0.0,  # noqa: F821 (eq 6)
+                          F_N, 1.0, state, params, dt)
         x, x_b = x_new, x_b_new
         f_d = f if prescribed else k_d * (v_d * t - x)                 # eq 17
-        if not abs(s) <= s_max:
+        if not abs(f) <= f_max:
             return i
         if i >= full_from or i % stride == 0:
             _record(out, j, t, f_d, f, 0.0, x, 0.0, x_b, 0.0)
@@ -50,15 +47,14 @@ def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, k_t, F_c, upd
 
 
 def run_longitudinal(scene) -> TimeSeries:
-    """Integrate the scene's X motion with the 1D Dahl model (its theta and eta_y are ignored)."""
-    if scene.contact.law != "dahl":
-        raise ValueError("the 1D longitudinal model [23] is Dahl only")
+    """Integrate the scene's X motion in 1D (its theta and eta_y are ignored)."""
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     out = np.empty((plan.rows, 8))
-    failed = longitudinal_loop(
+    law = scene.friction
+    failed = longitudinal_loop.for_law(law.law)(
         scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.mode == "velocity",
-        scene.u0, scene.omega, scene.vibration.t_on, scene.contact.k_t, scene.F_c,
-        UPDATES[scene.contact.update], scene.time.dt,
-        plan.steps, plan.stride, plan.full_from, divergence_bound(scene), out)
+        scene.u0, scene.omega, scene.vibration.t_on, scene.contact.F_N,
+        law.law.initial_state(1)[0], law.params, scene.time.dt,
+        plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
     check_finished(failed, scene)
     return TimeSeries.from_table(out)

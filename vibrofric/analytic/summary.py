@@ -4,7 +4,6 @@ import math
 
 import numpy as np
 
-from ..friction_law import FrictionLaw
 from ..core.errors import NumericalError
 from ..core.series import TimeSeries, averaging_steps
 
@@ -27,9 +26,7 @@ def breakaway_time(series: TimeSeries, F_c: float):
 
 def steady_drive_force(scene) -> float:
     """F_d0: the drive force of steady sliding at v_d without vibration (F_c for Dahl)."""
-    c = scene.contact
-    law = FrictionLaw(law=c.law, mu=c.mu, mu_s=scene.F_s / c.F_N, v_s=c.v_s, h_v=c.h_v)
-    return law.steady_sliding_force(c.F_N, scene.drive.v_d)
+    return scene.friction.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)
 
 
 def window_drift(series: TimeSeries, steps: int, dt: float):

@@ -1,25 +1,16 @@
-"""The scene's friction law as every stepper takes it: the kernel's arguments,
-the asperity length past which an update has diverged, and the step that
-resolves the slip."""
+"""The scene's friction law as every stepper checks it: the force past which an
+update has diverged, and the step that resolves the slip."""
 
 import math
 
-from ..friction_law.law import LAWS, UPDATES
-
-# A Dahl asperity never stretches beyond its sliding length s_c (a LuGre one
-# beyond F_s / k_t): past a few times that, the update has diverged.
+# No law reaches beyond its largest friction coefficient (friction_law.Bounds)
+# for long: a force past a few times that has diverged.
 DIVERGED = 3.0
 
 
-def friction_law_args(scene):
-    """Scalars of the scene's law in ``node_step`` order after the normal force."""
-    c = scene.contact
-    return (c.k_t, c.mu, scene.F_s / c.F_N, c.v_s, c.h_t, c.h_v, LAWS[c.law], UPDATES[c.update])
-
-
-def divergence_bound(scene) -> float:
-    """Asperity length past which an update has diverged."""
-    return DIVERGED * max(scene.F_c, scene.F_s) / scene.contact.k_t
+def divergence_force(scene) -> float:
+    """Friction force (N, whole contact) past which an update has diverged."""
+    return DIVERGED * scene.mu_max * scene.contact.F_N
 
 
 # The two-phase update (base phase, then body phase, eqs 28-30) splits each
@@ -32,12 +23,13 @@ SLIP_PER_STEP = 0.05
 
 
 def slip_resolving_step(scene) -> float:
-    """The step in which the fastest sliding, v_a + v_d, moves SLIP_PER_STEP s_c.
+    """The step in which the fastest sliding, v_a + v_d, moves SLIP_PER_STEP of the law's
+    sliding length (Dahl: s_c = F_c / k_t).
 
     At it the two-phase split errs by ~0.4% of F_dv in the worst case above
     (~0.1% or less along the axes). Infinite without friction.
     """
     if scene.F_c <= 0.0:
         return math.inf
-    sliding_length = scene.F_c / scene.contact.k_t
+    sliding_length = scene.law_bounds.sliding_length(scene.contact.F_N)
     return SLIP_PER_STEP * sliding_length / (scene.v_a + scene.drive.v_d)

@@ -27,8 +27,8 @@ and returns the friction force F_i (eqs 1, 38-39); it acts on the body node as
 
 from numba import njit
 
-from ..friction_law import node_step
-from ..friction_law.kernels import FASTMATH
+from ..friction_law import law_kernel
+from ..friction_law.contract import FASTMATH
 
 # Default penalty: this many times the block's axial stiffness E A / L_z.
 #  - Stiff enough to be "hard" contact: the penalty adds 1/10 of the block's own
@@ -61,51 +61,45 @@ def normal_force(u_z, v_z, penalty_share, beta):
     return penalty_share * closing  # (a NaN displacement gives NaN, caught by the loop)
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
-def node_contact(slip_x, slip_y, u_z, v_z, dx_b, free_y, penalty_share, w, beta, law, dt,
-                 s, ex, ey):
-    """One node's step: (N_i, s, ex, ey, F_x, F_y) after the body moved by (slip_x, slip_y)
-    and reached height u_z at speed v_z, the base by dx_b and the free end by free_y."""
-    k_t, mu, mu_s, v_s, h_t, h_v, code, update = law
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+def node_contact(slip_x, slip_y, u_z, v_z, dx_b, free_y, penalty_share, w, beta, params, dt,
+                 state):
+    """One node's step: (N_i, F_x, F_y) after the body moved by (slip_x, slip_y) and
+    reached height u_z at speed v_z, the base by dx_b and the free end by free_y; the
+    node's law ``state`` is updated in place (the VFRIC call)."""
     n_i = normal_force(u_z, v_z, penalty_share, beta)
-    s, e_x, e_y, f_x, f_y = node_step(
-        s, ex, ey,
+    f_x, f_y = law_update(  # noqa: F821 (the scene's law, friction_law/specialize.py)
         slip_x - dx_b, slip_y,      # phase 1: body minus base in X (eq 14), body in Y
-        0.0, free_y, n_i,           # phase 2: the free end by eta_y dy_b (eq 30)
-        k_t * w, mu, mu_s, v_s, h_t * w, h_v * w, code, update, dt)
-    return n_i, s, e_x, e_y, f_x, f_y
+        0.0, free_y,                # phase 2: the free end by eta_y dy_b (eq 30)
+        n_i, w, state, params, dt)
+    return n_i, f_x, f_y
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
-                   penalty_share, area_share, beta, law, dt,
-                   state, normal, force):
+                   penalty_share, area_share, beta, params, dt,
+                   states, normal, force):
     """Advance every contact node by one step; outputs are written in place.
 
     disp_old, disp_new  (n, 3) the nodes' displacements at the start and end of the step
     vel_z               (n,) their Z velocities at the end of the step
     dx_b, dy_b          the base's increment over the step (eqs 24-25)
     penalty_share       (n,) k_pen w_i;  area_share (n,) w_i
-    law                 the whole contact's law, friction_law_args(scene):
-                        (k_t, mu, mu_s, v_s, h_t, h_v, law code, update code)
-    state               (length, ex, ey), each (n,): every node's asperity (s, e) at
-                        the start of the step, replaced by those at its end
+    params              the law's parameters (friction_law.ContactLaw.params)
+    states              (n, the law's STATE_SIZE): every node's state at the start of
+                        the step, replaced by those at its end
     normal              (n,) out: the normal force N_i at the end of the step
     force               (n, 2) out: the friction force F_i (acts on the body as -F_i)
 
     Returns the sums (sum N_i, sum F_x, sum F_y).
     """
-    length, ex, ey = state
     free_y = eta_y * dy_b
     total_n = total_x = total_y = 0.0
-    for i in range(length.shape[0]):
-        n_i, s, e_x, e_y, f_x, f_y = node_contact(
+    for i in range(states.shape[0]):
+        n_i, f_x, f_y = node_contact(
             disp_new[i, 0] - disp_old[i, 0], disp_new[i, 1] - disp_old[i, 1],
-            disp_new[i, 2], vel_z[i], dx_b, free_y, penalty_share[i], area_share[i], beta, law, dt,
-            length[i], ex[i], ey[i])
-        length[i] = s
-        ex[i] = e_x
-        ey[i] = e_y
+            disp_new[i, 2], vel_z[i], dx_b, free_y, penalty_share[i], area_share[i], beta,
+            params, dt, states[i])
         normal[i] = n_i
         force[i, 0] = f_x
         force[i, 1] = f_y

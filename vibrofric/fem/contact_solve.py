@@ -13,10 +13,10 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
 from ..core.friction import slip_resolving_step
-from ..friction_law.kernels import FASTMATH
+from ..friction_law import law_kernel
+from ..friction_law.contract import FASTMATH
 from .contact import node_contact
 from .linalg import apply
 
@@ -99,31 +99,16 @@ def friction_substeps(scene) -> int:
     return max(1, per_cycle, resolving)
 
 
-def law_departure(scene) -> float:
-    """An upper bound of |dF/d(slip) - k_t w_i| / (k_t w_i) for the scene's law at its dt.
-
-    Dahl: dF/d(slip) lies in [0, 2 k_t w_i], so 1. LuGre adds the Stribeck
-    term (the sliding limit g(v_r) changing with the step's slip: at most
-    sqrt(2/e) (F_s - F_c) / F_c, reached at v_r = v_s / sqrt 2) and the dampings
-    (h_t ds + h_v dv_r) / dt: (2 h_t + h_v) / (k_t dt).
-    """
-    c = scene.contact
-    if c.law == "dahl":
-        return 1.0
-    stribeck = math.sqrt(2.0 / math.e) * abs(scene.F_s - scene.F_c) / max(scene.F_c, 1e-300)
-    return 1.0 + stribeck + (2.0 * c.h_t + c.h_v) / (c.k_t * scene.time.dt)
-
-
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _node(c, qx, qy, qz, step, contact_dofs, contact, law, scheme, length, ex, ey):
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _node(c, qx, qy, qz, step, contact_dofs, contact, params, scheme, states, state):
     """Contact node c over the step, ending at the trial displacements (qx, qy, qz).
 
     The friction law runs over the step's sub-steps (friction_substeps): the
     node moves at its mean velocity over the step, the base along its exact
     sinusoid; the normal force's dashpot sees the velocity interpolated
-    between v_n and v_{n+1} (Newmark, from q_{n+1}). Returns
-    contact.node_contact's (N, s, ex, ey, F_x, F_y) at the end, and
-    g_c = f_c + l q_c (g_z with l only where A holds it).
+    between v_n and v_{n+1} (Newmark, from q_{n+1}). The node's law state
+    starts from states[c] and ends in ``state``. Returns contact.node_contact's
+    (N, F_x, F_y) at the end, and g_c = f_c + l q_c (g_z with l only where A holds it).
     """
     q_old, v_old, vt, qt, base_dx, base_free = step
     u0c, normal0, penalty_share, area_share, tangent, assumed = contact
@@ -133,44 +118,41 @@ def _node(c, qx, qy, qz, step, contact_dofs, contact, law, scheme, length, ex, e
     slip_x, slip_y = (qx - q_old[ix]) / m, (qy - q_old[iy]) / m
     z0, dz = u0c[c, 2] + q_old[iz], (qz - q_old[iz]) / m
     vz0, vz1 = v_old[iz], vt[iz] + c_v * (qz - qt[iz])
-    s, e_x, e_y = length[c], ex[c], ey[c]
+    state[:] = states[c]
     n_i = f_x = f_y = 0.0
     for j in range(1, m + 1):
         tau = j / m
-        n_i, s, e_x, e_y, f_x, f_y = node_contact(slip_x, slip_y, z0 + j * dz,
-                                                  vz0 + tau * (vz1 - vz0),
-                                                  base_dx[j - 1], base_free[j - 1], penalty_share[c],
-                                                  area_share[c], beta, law, dt / m, s, e_x, e_y)
-    return (n_i, s, e_x, e_y, f_x, f_y, -f_x + tangent[3 * c] * qx, -f_y + tangent[3 * c + 1] * qy,
+        n_i, f_x, f_y = node_contact(slip_x, slip_y, z0 + j * dz, vz0 + tau * (vz1 - vz0),
+                                     base_dx[j - 1], base_free[j - 1], penalty_share[c],
+                                     area_share[c], beta, params, dt / m, state)
+    return (n_i, f_x, f_y, -f_x + tangent[3 * c] * qx, -f_y + tangent[3 * c + 1] * qy,
             n_i + tangent[3 * c + 2] * assumed[c] * qz)
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _contact_space(qc, xa, t, step, contact_dofs, contact, law, drive, scheme, length, ex, ey,
-                   work):
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _contact_space(qc, xa, t, step, contact_dofs, contact, params, drive, scheme, states, work):
     """Evaluate the contact forces at the trial contact displacements ``qc`` and drive x_A.
 
     Fills g (work) with g_c = f_c + l q_c and returns (F_d, sum N, sum F_x, sum F_y);
     the trial asperity states and forces land in work (not committed).
     """
     k_d, v_d = drive
-    g, trial_s, trial_ex, trial_ey = work.g, work.trial_s, work.trial_ex, work.trial_ey
+    g, trial_state = work.g, work.trial_state
     normal_t, force_t = work.normal_t, work.force_t
     f_n = f_x = f_y = 0.0
     for c in range(contact_dofs.shape[0]):
-        (normal_t[c], trial_s[c], trial_ex[c], trial_ey[c], force_t[c, 0], force_t[c, 1],
-         g[3 * c], g[3 * c + 1], g[3 * c + 2]) = _node(
-            c, qc[3 * c], qc[3 * c + 1], qc[3 * c + 2], step, contact_dofs, contact, law, scheme,
-            length, ex, ey)
+        (normal_t[c], force_t[c, 0], force_t[c, 1], g[3 * c], g[3 * c + 1], g[3 * c + 2]) = _node(
+            c, qc[3 * c], qc[3 * c + 1], qc[3 * c + 2], step, contact_dofs, contact, params,
+            scheme, states, trial_state[c])
         f_n += normal_t[c]
         f_x += force_t[c, 0]
         f_y += force_t[c, 1]
     return k_d * (v_d * t - xa), f_n, f_x, f_y
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, law, scheme, mu_max,
-                       length, ex, ey, work):
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, scheme, mu_max,
+                       states, work):
     """delta: the step of the contact-space fixed point.
 
     -rho (the fixed-point step) on every node the matrix describes well; a
@@ -212,9 +194,10 @@ def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, law, sche
                 y += steps[1]
             else:
                 z += steps[2]
-            result = _node(c, x, y, z, step, contact_dofs, contact, law, scheme, length, ex, ey)
+            result = _node(c, x, y, z, step, contact_dofs, contact, params, scheme, states,
+                           work.scratch_state)
             for r in range(3):
-                tangents[b, r, k] = (result[6 + r] - g[3 * c + r]) / steps[k]
+                tangents[b, r, k] = (result[3 + r] - g[3 * c + r]) / steps[k]
     small = np.empty((m, m))
     rhs = np.empty(m)
     for a in range(m):
@@ -241,15 +224,15 @@ def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, law, sche
                 delta[p] += G[p, col] * jac[r]
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, law, drive, scheme,
-              length, ex, ey, work):
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive, scheme,
+              states, work):
     """Evaluate the contact space at (qc, x_a): fills g, target = y_c + (1 - af) (G g + h F_d)
     and rho = qc - target (work). Returns (F_d, sum N, sum F_x, sum F_y, max |rho|, the
     x_A the fixed point maps x_a to)."""
     g, target, rho, yc = work.g, work.target, work.rho, work.yc
-    f_d, f_n, f_x, f_y = _contact_space(qc, x_a, t, step, contact_dofs, contact, law, drive,
-                                        scheme, length, ex, ey, work)
+    f_d, f_n, f_x, f_y = _contact_space(qc, x_a, t, step, contact_dofs, contact, params, drive,
+                                        scheme, states, work)
     apply(G, g, target)
     hg = residual = 0.0
     for p in range(qc.shape[0]):

@@ -14,7 +14,8 @@ What is stored, at every recorded row:
     E_el  = 1/2 q^T K q + sum_i E_pen,i        the block and its penalty springs under the
                                                dead loads: their potential above the preload's
           + F_d^2 / (2 k_d)                    the drive spring
-          + sum_i k_t w_i s_i^2 / 2            the asperities (eq 1)
+          + sum_i E_law,i                      the friction law's stored energy (Dahl:
+                                               k_t w_i s_i^2 / 2, eq 1)
 
     E_pen,i = N0_i q_z + k_i max(0, -u_z)^2 / 2 - k_i u0_z^2 / 2   (u_z = u0_z + q_z,
     k_i = k_pen w_i, N0_i = -k_i u0_z the preload reaction): 1/2 k_i q_z^2 while in
@@ -22,7 +23,7 @@ What is stored, at every recorded row:
 
 What is dissipated, per step:
 
-    D_fric += sum_i F_i,bar . (du_i - db) - d(k_t w_i s_i^2 / 2)
+    D_fric += sum_i F_i,bar . (du_i - db) - d E_law,i
               the work put into node i's asperity minus what it stores: the
               slip work (paper Fig. 1: N' moves by du_i, M is carried by db
               and slides); >= 0 for the Dahl law (k |v_r| s^2 / s_c per unit time)
@@ -47,6 +48,8 @@ frequencies; the difference of the two sides measures that numerical dissipation
 
 from numba import njit
 
+from ..friction_law import law_kernel
+
 # sums[]: the accumulated inputs and dissipations
 W_DRIVE, W_BASE, D_FRIC, D_DAMP = range(4)
 
@@ -58,15 +61,16 @@ def penalty_energy(q_z, u0_z, normal0, penalty):
     return normal0 * q_z + 0.5 * penalty * (gap * gap - u0_z * u0_z)
 
 
-@njit(cache=True, error_model="numpy")
-def contact_step(q_old, q_new, contact_dofs, penalty_share, stiffness_share,
-                 s_old, s_new, force_old, force_new, normal_old, normal_new,
+@law_kernel(cache=True, error_model="numpy")
+def contact_step(q_old, q_new, contact_dofs, penalty_share, area_share, params,
+                 states_old, states_new, force_old, force_new, normal_old, normal_new,
                  alpha_f, db_x, db_y, beta, dt, sums):
     """Add one step's base work, friction and penalty-dashpot dissipation to ``sums``.
 
     q_old, q_new        the coordinates at the start and end of the step
     contact_dofs        (n, 3) each contact node's X, Y, Z index in q
-    stiffness_share     (n,) k_t w_i;  s_old, s_new (n,) the asperity lengths
+    area_share          (n,) w_i; params the law's parameters
+    states_old, _new    (n, STATE_SIZE) the law's states at both ends
     force_*, normal_*   the friction (n, 2) and normal (n,) forces at both ends
     """
     a = 1.0 - alpha_f
@@ -76,14 +80,15 @@ def contact_step(q_old, q_new, contact_dofs, penalty_share, stiffness_share,
         fy = a * force_new[c, 1] + alpha_f * force_old[c, 1]
         sums[W_BASE] -= fx * db_x + fy * db_y
         sums[D_FRIC] += (fx * (q_new[ix] - q_old[ix] - db_x) + fy * (q_new[iy] - q_old[iy] - db_y)
-                         - 0.5 * stiffness_share[c] * (s_new[c] ** 2 - s_old[c] ** 2))
+                         - law_energy(states_new[c], params, area_share[c])  # noqa: F821
+                         + law_energy(states_old[c], params, area_share[c]))  # noqa: F821
         if normal_old[c] > 0.0 and normal_new[c] > 0.0:
             sums[D_DAMP] += beta * penalty_share[c] * (q_new[iz] - q_old[iz]) ** 2 / dt
 
 
-@njit(cache=True, error_model="numpy")
+@law_kernel(cache=True, error_model="numpy")
 def stored(q, v, mass_v, stiffness_q, contact_dofs, u0_z, normal0, penalty_share,
-           stiffness_share, length, f_d, k_d):
+           area_share, params, states, f_d, k_d):
     """(E_kin, E_el) of the state; mass_v = M v and stiffness_q = K q already computed."""
     kinetic = elastic = 0.0
     for k in range(q.shape[0]):
@@ -91,5 +96,5 @@ def stored(q, v, mass_v, stiffness_q, contact_dofs, u0_z, normal0, penalty_share
         elastic += 0.5 * q[k] * stiffness_q[k]
     for c in range(contact_dofs.shape[0]):
         elastic += penalty_energy(q[contact_dofs[c, 2]], u0_z[c], normal0[c], penalty_share[c])
-        elastic += 0.5 * stiffness_share[c] * length[c] ** 2
+        elastic += law_energy(states[c], params, area_share[c])  # noqa: F821 (the law's)
     return kinetic, elastic + 0.5 * f_d * f_d / k_d

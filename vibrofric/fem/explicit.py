@@ -29,11 +29,10 @@ frame. Energy accounting (fem.energy) is the implicit integrators' (energy.py).
 import math
 
 import numpy as np
-from numba import njit
 
 from ..core.base_motion import base_displacement, vibration_axis
-from ..core.friction import friction_law_args
-from ..friction_law.kernels import FASTMATH
+from ..friction_law import law_kernel
+from ..friction_law.contract import FASTMATH
 from ..core.errors import NoEnergyBalance
 from . import step_cost, trouble
 from .contact import contact_forces
@@ -44,25 +43,24 @@ from .recording import COS, SIN, XB, YB, finish_step, keep_step
 from .time_loop import Started, TimeLoop
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def explicit_steps(first, last, dt,
                    stiffness, inverse_mass, load, beta,
-                   contact_nodes, penalty_share, area_share, law, eta_y,
+                   contact_nodes, penalty_share, area_share, params, eta_y,
                    attach_nodes, attach_weights, k_d, v_d,
                    amplitude, omega, t_on, cos_theta, sin_theta,
                    F_N, mu_max,
                    reference, u, v, work, force_sum, disp, disp_new, vel_z,
-                   length, ex, ey, normal, friction, scalars, recorder, steady):
+                   states, normal, friction, scalars, recorder, steady):
     """Advance steps ``first`` .. ``last`` (inclusive). Returns (failed step, code, stop step):
     (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py).
 
     ``stiffness`` is K in block sparse rows of 3x3 node blocks (linalg.bsr).
-    All state lives in the arrays (u, v, disp, length, ex, ey, normal,
+    All state lives in the arrays (u, v, disp, states, normal,
     friction, scalars, recorder, steady) so that a run can be resumed chunk by chunk.
     """
     dofs = u.shape[0]
     contacts = contact_nodes.shape[0]
-    state = (length, ex, ey)
     row = recorder[0]
     xb, yb = scalars[XB], scalars[YB]
     sin_phase, cos_phase = scalars[SIN], scalars[COS]
@@ -108,7 +106,7 @@ def explicit_steps(first, last, dt,
             vel_z[c] = v[d + 2]
         f_n, f_x, f_y = contact_forces(
             disp, disp_new, vel_z, xb_new - xb, yb_new - yb, eta_y,
-            penalty_share, area_share, beta, law, dt, state, normal, friction)
+            penalty_share, area_share, beta, params, dt, states, normal, friction)
         magnitude = 0.0
         for c in range(contacts):
             disp[c, 0] = disp_new[c, 0]
@@ -165,7 +163,8 @@ class ExplicitRun(TimeLoop):
     def start(self, contact, scalars, recorder, steady) -> Started:
         scene, model = self.scene, self.model
         c, dt = scene.contact, scene.time.dt
-        law = friction_law_args(scene)
+        law = scene.friction
+        kernel = explicit_steps.for_law(law.law)
         cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
         dofs, contacts = model.dofs, model.contact_nodes.size
 
@@ -177,15 +176,15 @@ class ExplicitRun(TimeLoop):
         stiffness = bsr(model.stiffness)  # node-by-node 3x3 blocks
 
         def steps(first, last):
-            return explicit_steps(
+            return kernel(
                 first, last, dt,
                 stiffness, model.inverse_mass, model.load, model.beta,
-                model.contact_nodes, model.penalty_share, model.area_share, law, c.eta_y,
+                model.contact_nodes, model.penalty_share, model.area_share, law.params, c.eta_y,
                 model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                 c.F_N, scene.mu_max,
                 model.u0, u, v, work, force_sum, disp, disp_new, vel_z,
-                contact.length, contact.ex, contact.ey, contact.normal, contact.friction,
+                contact.state, contact.normal, contact.friction,
                 scalars, recorder.arrays, steady.arrays)
 
         return Started(steps, lambda: (u, v))

@@ -81,6 +81,6 @@ def full_system(model) -> LinearSystem:
 def contact_tangent(model, scene, c_v) -> np.ndarray:
     """l: (3 contacts,) the contact forces' tangent per contact DOF (see the docstring)."""
     tangent = np.empty((model.contact_nodes.size, 3))
-    tangent[:, 0] = tangent[:, 1] = scene.contact.k_t * model.area_share
+    tangent[:, 0] = tangent[:, 1] = scene.law_bounds.stiffness * model.area_share
     tangent[:, 2] = model.penalty_share * (1.0 + model.beta * c_v)
     return tangent.ravel()

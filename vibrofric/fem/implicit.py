@@ -104,16 +104,16 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
-from numba import njit
 
 from ..core.base_motion import base_displacement, vibration_axis
-from ..core.friction import friction_law_args
-from ..friction_law.kernels import FASTMATH
 from ..core.errors import StepTooLong
+from ..friction_law import law_kernel
+from ..friction_law.contract import FASTMATH
 from . import energy, recording, trouble
 from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRACTION,
                             MAX_ITERATIONS, MIN_STEP, STALL_FACTOR, ContactData, StepStart,
-                            _newton_correction, _residual, friction_substeps, law_departure)
+                            _newton_correction, _residual, friction_substeps)
+from .energy import contact_step as energy_step, stored as energy_stored
 from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
 from .linalg import apply, bsr, factorize, inverse, solve
 from .recording import COS, SIN, XB, YB, finish_step, keep_step
@@ -143,9 +143,8 @@ class Work(NamedTuple):
     g: np.ndarray
     delta: np.ndarray
     rho: np.ndarray
-    trial_s: np.ndarray     # (contacts,) the trial asperity state and forces
-    trial_ex: np.ndarray
-    trial_ey: np.ndarray
+    trial_state: np.ndarray  # (contacts, STATE_SIZE) the trial law states and forces
+    scratch_state: np.ndarray  # (STATE_SIZE,) one node's, for the Newton tangents
     normal_t: np.ndarray
     force_t: np.ndarray     # (contacts, 2)
     qc_best: np.ndarray     # (nc,) the iterate with the smallest residual
@@ -155,11 +154,12 @@ class Work(NamedTuple):
     base_free: np.ndarray   # (substeps,) the free end's: eta_y dy_b (eq 30)
 
     @classmethod
-    def allocate(cls, n: int, contacts: int, substeps: int) -> "Work":
+    def allocate(cls, n: int, contacts: int, substeps: int, state_size: int) -> "Work":
         nc = 3 * contacts
         return cls(*(np.empty(n) for _ in range(9)), np.empty(nc + 1),
                    *(np.empty(nc) for _ in range(6)),
-                   *(np.empty(contacts) for _ in range(4)), np.empty((contacts, 2)),
+                   np.empty((contacts, state_size)), np.empty(state_size),
+                   np.empty(contacts), np.empty((contacts, 2)),
                    np.empty(nc), np.empty(contacts, dtype=np.int64), np.empty(3),
                    np.empty(substeps), np.empty(substeps))
 
@@ -254,9 +254,9 @@ class ImplicitRun(TimeLoop):
         if self.contraction > MAX_CONTRACTION:
             raise StepTooLong(f"time step {t.dt:g} s is too long for the {name} integrator's "
                                         f"contact iteration with this friction law (estimated "
-                                        f"contraction {self.contraction:.2f} > {MAX_CONTRACTION}; "
-                                        "LuGre's dampings h_t, h_v and a large F_s - F_c raise "
-                                        "it): use a smaller time.dt")
+                              f"contraction {self.contraction:.2f} > {MAX_CONTRACTION}; "
+                              "LuGre's dampings h_t, h_v and a large F_s - F_c raise "
+                              "it): use a smaller time.dt")
 
     def _contraction(self, held) -> float:
         """(1 - alpha_f) * departure * spectral radius of diag(l)^1/2 G diag(l)^1/2 over X, Y."""
@@ -267,7 +267,7 @@ class ImplicitRun(TimeLoop):
         root = np.sqrt(held[planar])
         scaled = root[:, None] * self.G[np.ix_(planar, planar)] * root[None, :]
         radius = np.abs(np.linalg.eigvalsh(0.5 * (scaled + scaled.T))).max()
-        return (1.0 - alpha_f) * law_departure(self.scene) * radius
+        return (1.0 - alpha_f) * self.scene.law_bounds.departure * radius
 
     @property
     def cost_per_step(self) -> float:
@@ -297,7 +297,9 @@ class ImplicitRun(TimeLoop):
         cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
         n, contacts = system.size, model.contact_nodes.size
         nc = 3 * contacts
-        law = friction_law_args(scene)
+        law = scene.friction
+        kernel = implicit_steps.for_law(law.law)
+        params = law.params
         use_energy = scene.fem.energy
 
         q, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -305,7 +307,7 @@ class ImplicitRun(TimeLoop):
         g_prev = np.zeros(nc + 1)   # g at the preload: q = 0, f_c = (0, 0, N0), F_d = 0
         g_prev[2:nc:3] = model.normal0
         sums = np.zeros(4)
-        work = Work.allocate(n, contacts, self.substeps)
+        work = Work.allocate(n, contacts, self.substeps, law.law.state_size)
 
         others = np.setdiff1d(np.arange(n), system.contact_dofs.ravel())
         operators = Operators(self.mass_op, self.stiffness_op, self.inv, self.Z, self.G, self.h,
@@ -315,14 +317,14 @@ class ImplicitRun(TimeLoop):
                             self.tangent, self.assumed)
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
         scheme = Scheme(dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
-                        ITERATION_TOLERANCE * c.F_N / c.k_t, MAX_ITERATIONS)
+                        ITERATION_TOLERANCE * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS)
         drive = Drive(scene.drive.k_d, scene.drive.v_d)
         limits = Limits(c.F_N, scene.mu_max)
 
         def steps(first, last):
-            return implicit_steps(
-                first, last, operators, nodes, law, base, drive, scheme, limits, use_energy,
-                q, v, a, contact.length, contact.ex, contact.ey, contact.normal, contact.friction,
+            return kernel(
+                first, last, operators, nodes, params, base, drive, scheme, limits, use_energy,
+                q, v, a, contact.state, contact.normal, contact.friction,
                 g_prev, scalars, sums, recorder.arrays, steady.arrays, work)
 
         return Started(steps, lambda: (model.u0 + system.expand(q), system.expand(v)))
@@ -333,9 +335,9 @@ class ImplicitRun(TimeLoop):
                 "iterations_stalled": int(scalars[STALLED])}
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def implicit_steps(first, last, operators, contact, law, base, drive, scheme, limits, use_energy,
-                   q, v, a, length, ex, ey, normal, friction, g_prev, scalars, sums,
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def implicit_steps(first, last, operators, contact, params, base, drive, scheme, limits, use_energy,
+                   q, v, a, states, normal, friction, g_prev, scalars, sums,
                    recorder, steady, work):
     """Advance steps ``first`` .. ``last``. Returns (failed step, code, stop step):
     (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py)."""
@@ -346,12 +348,11 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
     dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, beta, tolerance, max_iterations = scheme
     stall_tolerance = tolerance * STALL_FACTOR
     F_N, mu_max = limits
-    k_t = law[0]
     qt, vt, x1, x2, r1, r2, rhs, y, q_new = (work.qt, work.vt, work.x1, work.x2, work.r1,
                                              work.r2, work.rhs, work.y, work.q_new)
     gw, qc, yc, target, g, delta, rho, qc_best = (work.gw, work.qc, work.yc, work.target,
                                                   work.g, work.delta, work.rho, work.qc_best)
-    trial_s, trial_ex, trial_ey = work.trial_s, work.trial_ex, work.trial_ey
+    trial_state = work.trial_state
     normal_t, force_t = work.normal_t, work.force_t
     base_dx, base_free = work.base_dx, work.base_free
     n = q.shape[0]
@@ -422,8 +423,8 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
             iterations += 1
             newton = iterations <= max_iterations
             f_d, f_n, f_x, f_y, residual, x_a_new = _residual(
-                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, law, drive, scheme,
-                length, ex, ey, work)
+                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive, scheme,
+                states, work)
             if residual < best:
                 best = residual
                 qc_best[:] = qc
@@ -435,8 +436,8 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
                     qc[p] -= factor * delta[p]
                 continue
             if newton:
-                _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, law, scheme,
-                                   mu_max, length, ex, ey, work)
+                _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, scheme,
+                                   mu_max, states, work)
             else:
                 for p in range(nc):
                     delta[p] = -rho[p]
@@ -458,8 +459,8 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
             qc[:] = qc_best
             x_a = x_a_best
             f_d, f_n, f_x, f_y, residual, x_a_new = _residual(
-                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, law, drive, scheme,
-                length, ex, ey, work)
+                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive, scheme,
+                states, work)
         scalars[ITER_MAX] = max(scalars[ITER_MAX], iterations)
         scalars[ITER_SUM] += iterations
 
@@ -487,19 +488,17 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
                 rayleigh += x1[k] * r1[k]
             sums[energy.D_DAMP] += beta * rayleigh / dt
             sums[energy.W_DRIVE] += (af1 * f_d + alpha_f * f_d_old) * v_d * dt
-            energy.contact_step(q, q_new, contact_dofs, penalty_share, k_t * area_share, length,
-                                trial_s, friction, force_t, normal, normal_t, alpha_f, dx_b,
-                                eta_y * dy_b, beta, dt, sums)
+            energy_step(q, q_new, contact_dofs, penalty_share, area_share, params, states,
+                        trial_state, friction, force_t, normal, normal_t, alpha_f, dx_b,
+                        eta_y * dy_b, beta, dt, sums)
         for k in range(n):
             a_new = (q_new[k] - qt[k]) / (beta_n * dt * dt)
             v[k] = vt[k] + gamma * dt * a_new
             a[k] = a_new
             q[k] = q_new[k]
         # Commit the contact state of the converged evaluation.
-        for c in range(length.shape[0]):
-            length[c] = trial_s[c]
-            ex[c] = trial_ex[c]
-            ey[c] = trial_ey[c]
+        for c in range(states.shape[0]):
+            states[c, :] = trial_state[c]
             normal[c] = normal_t[c]
             friction[c, 0] = force_t[c, 0]
             friction[c, 1] = force_t[c, 1]
@@ -507,7 +506,7 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
         f_d_old = f_d
 
         magnitude = 0.0
-        for c in range(length.shape[0]):
+        for c in range(states.shape[0]):
             magnitude += math.sqrt(friction[c, 0] ** 2 + friction[c, 1] ** 2)
         x_out = y_out = 0.0
         for k in range(drive_index.shape[0]):
@@ -521,8 +520,8 @@ def implicit_steps(first, last, operators, contact, law, base, drive, scheme, li
         if use_energy:
             apply(mass, v, r1)
             apply(stiffness, q, r2)
-            kinetic, elastic = energy.stored(q, v, r1, r2, contact_dofs, u0c[:, 2], normal0,
-                                             penalty_share, k_t * area_share, length, f_d, k_d)
+            kinetic, elastic = energy_stored(q, v, r1, r2, contact_dofs, u0c[:, 2], normal0,
+                                             penalty_share, area_share, params, states, f_d, k_d)
             row[recording.W_DRIVE] = sums[energy.W_DRIVE]
             row[recording.W_BASE] = sums[energy.W_BASE]
             row[recording.E_KIN] = kinetic

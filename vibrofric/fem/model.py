@@ -126,10 +126,10 @@ def build_model(scene, comm) -> FEModel:
     attach_nodes, attach_weights = attachment(scene, disc.face_area)
 
     u0, normal0 = static_preload(disc.stiffness, load, contact_nodes, penalty_share, area_share,
-                                 scene.contact.k_t, scene.contact.F_N)
+                                 scene.law_bounds.stiffness, scene.contact.F_N)
 
     omega_max = stability.max_frequency(
-        disc.stiffness, disc.mass, contact_nodes, penalty_share, 2.0 * scene.contact.k_t * area_share,
+        disc.stiffness, disc.mass, contact_nodes, penalty_share, scene.law_bounds.max_stiffness * area_share,
         drive_stiffness_action(scene.drive.k_d, attach_nodes, attach_weights, disc.dofs))
     beta = scene.fem.damping if scene.fem.damping > 0.0 else stability.default_damping(omega_max)
     dt_stable = stability.critical_step(omega_max, beta)

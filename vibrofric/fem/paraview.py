@@ -36,7 +36,7 @@ import numpy as np
 from .dolfinx_adapter import VTKSeries
 
 FIELDS = ("displacement", "velocity", "contact_pressure", "friction_traction",
-          "friction_force", "dahl_state", "slip")
+          "friction_force", "asperity_deformation", "slip")
 
 
 def node_fields(model, state) -> dict:
@@ -50,8 +50,7 @@ def node_fields(model, state) -> dict:
     out["velocity"][:] = state.v.reshape(-1, 3)
     out["friction_force"][c, :2] = state.friction
     out["friction_traction"][c, :2] = state.friction / model.contact_area[:, None]
-    out["dahl_state"][c, 0] = state.length * state.ex
-    out["dahl_state"][c, 1] = state.length * state.ey
+    out["asperity_deformation"][c, :2] = state.deformation
     relative = (state.u - model.u0).reshape(-1, 3)[c]
     out["slip"][c, 0] = relative[:, 0] - state.x_b
     out["slip"][c, 1] = relative[:, 1] - state.y_b

@@ -63,9 +63,8 @@ class State:
     t: float
     u: np.ndarray           # (dofs,) displacement, including the preload
     v: np.ndarray           # (dofs,) velocity
-    length: np.ndarray      # (contacts,) asperity length s
-    ex: np.ndarray          # (contacts,) asperity direction e
-    ey: np.ndarray
+    law_state: np.ndarray   # (contacts, the law's STATE_SIZE)
+    deformation: np.ndarray  # (contacts, 2) the law's elastic deformation (Dahl: s e)
     normal: np.ndarray      # (contacts,) normal force N_i
     friction: np.ndarray    # (contacts, 2) friction force F_i (acts on the body as -F_i)
     x_b: float

@@ -163,7 +163,7 @@ def _linearized_contact(model, k_t) -> np.ndarray:
 
 def compliance_error(model, reduction: Reduction, scene) -> dict:
     """The measured reduction error (see the module docstring): per harmonic, and the max."""
-    springs = _linearized_contact(model, scene.contact.k_t)
+    springs = _linearized_contact(model, scene.law_bounds.stiffness)
     n, b = model.dofs, reduction.boundary
     full_springs = np.zeros(n)
     full_springs[b] = springs

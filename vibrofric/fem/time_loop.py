@@ -5,7 +5,7 @@ once per run. It supplies its preparation (its ``__init__``: checks, a
 factorization, a reduction) and, through ``start``, its compiled step over a
 range of steps; the TimeLoop owns the rest, the same for all of them:
 
-    the initial state    the static preload, the asperities at rest along X
+    the initial state    the static preload, the friction law's states at rest
                          (ContactState), the carried scalars, the recorder and
                          the early-steady-state detector
     the chunks           between ParaView frames and progress reports
@@ -30,20 +30,17 @@ from .steady import SteadyState
 
 @dataclass
 class ContactState:
-    """Every contact node's asperity and forces, carried from step to step."""
+    """Every contact node's friction-law state and forces, carried from step to step."""
 
-    length: np.ndarray      # (contacts,) asperity length s
-    ex: np.ndarray          # (contacts,) asperity direction e
-    ey: np.ndarray
+    state: np.ndarray       # (contacts, the law's STATE_SIZE)
     normal: np.ndarray      # (contacts,) normal force N_i
     friction: np.ndarray    # (contacts, 2) friction force F_i (acts on the body as -F_i)
 
     @classmethod
-    def at_preload(cls, model) -> "ContactState":
-        """The preload's normal forces; before any motion the asperities point along X."""
+    def at_preload(cls, model, law) -> "ContactState":
+        """The preload's normal forces; the law's states at rest (friction_law.FrictionLaw)."""
         contacts = model.contact_nodes.size
-        return cls(np.zeros(contacts), np.ones(contacts), np.zeros(contacts),
-                   model.normal0.copy(), np.zeros((contacts, 2)))
+        return cls(law.initial_state(contacts), model.normal0.copy(), np.zeros((contacts, 2)))
 
 
 @dataclass
@@ -89,7 +86,8 @@ class TimeLoop:
         raise core.errors.NumericalError on numerical trouble."""
         scene = self.scene
         dt = scene.time.dt
-        contact = ContactState.at_preload(self.model)
+        law = scene.friction.law
+        contact = ContactState.at_preload(self.model, law)
         scalars = initial_scalars(self.extra_scalars)
         recorder = Recorder(plan, len(columns(scene.fem.energy)))
         steady = SteadyState(scene)
@@ -97,8 +95,9 @@ class TimeLoop:
 
         def state(step):
             u, v = started.fields()
-            return State(step, step * dt, u, v, contact.length, contact.ex, contact.ey,
-                         contact.normal, contact.friction, scalars[XB], scalars[YB])
+            return State(step, step * dt, u, v, contact.state.copy(),
+                         law.deformation(contact.state), contact.normal, contact.friction,
+                         scalars[XB], scalars[YB])
 
         def advance(first, last):
             failed, code, stop = started.steps(first, last)

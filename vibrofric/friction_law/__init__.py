@@ -1,6 +1,11 @@
-"""Tangential contact laws (Dahl, LuGre) as a per-node two-phase update."""
+"""Tangential contact laws as a per-node update: the contract (contract.py), the
+built-in Dahl (dahl.py) and LuGre (lugre.py) laws, and the time loops compiled
+per law (specialize.py)."""
 
-from .kernels import DAHL, EXACT, LUGRE, PAPER, node_step, relax_length
-from .law import AsperityState, FrictionLaw, contact_step
+from .contract import (Bounds, ContactLaw, FrictionLaw, LawError, Parameter, ParameterError,
+                       load_law)
+from .law import contact_step
+from .specialize import law_kernel
 
-__all__ = ["DAHL", "EXACT", "LUGRE", "PAPER", "AsperityState", "FrictionLaw", "contact_step", "node_step", "relax_length"]
+__all__ = ["Bounds", "ContactLaw", "FrictionLaw", "LawError", "Parameter", "ParameterError",
+           "contact_step", "law_kernel", "load_law"]

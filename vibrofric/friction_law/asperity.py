@@ -1,0 +1,81 @@
+"""The lumped elastic asperity both built-in laws share (paper Fig. 1, eqs 4-11).
+
+One contact node carries one asperity MN: its free end M sits on the base, its
+body end N' moves with the body. The state is the deformation vector
+d = N' - M, kept as its length s = |d| and direction e = d / s (the paper's
+Table 1 carries the same as s and the angle beta): a node's state is
+(s, e_x, e_y). The friction force is F = k s e (eq 1, eqs 38-39).
+
+Each phase of a step (phase 1: the body end moves by the slip, eqs 18-22;
+phase 2: the free end moves with the base, eqs 28-35) first stretches the
+asperity rigidly to the trial vector, then relaxes its length along the trial
+direction by the law (``relax_length`` here for Dahl's, with the sliding
+length set by the law).
+"""
+
+import math
+
+from numba import njit
+
+from .contract import FASTMATH
+
+PAPER = 0  # explicit Euler update, as the paper (eqs 18, 31)
+EXACT = 1  # the exact solution for a constant slip rate over the step
+UPDATES = ("paper", "exact")   # the choices of contact.update, in code order
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+def trial(s, ex, ey, trial_x, trial_y):
+    """Length and direction of the trial vector; a zero-length trial keeps the
+    previous direction (the paper's guards against 0/0). Returns (|trial|, ex, ey)."""
+    length = math.sqrt(trial_x * trial_x + trial_y * trial_y)
+    if length > 0.0:
+        inverse = 1.0 / length
+        ex = trial_x * inverse
+        ey = trial_y * inverse
+    return length, ex, ey
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def relax_length(s, stretch, s_limit, exponent, update):
+    """New asperity length after a trial change of length ``stretch`` (= v_r dt).
+
+    Dahl (eqs 2, 4-6) with shape exponent i: ds/dx = r^i along the slip x,
+    where r = 1 - (s / s_limit) sgn(v_r) is the distance to the sliding limit
+    s_limit = F_c / k in units of it (r < 0, past the limit, relaxes by the
+    same law on |r|, keeping its sign). Exactly, over the step's |dx| = |stretch|:
+
+        i = 1:  s' = s_limit sgn + (s - s_limit sgn) exp(-|dx| / s_limit)
+        i < 1:  r'^(1-i) = max(0, r^(1-i) - (1 - i) |dx| / s_limit)    (reaches 0: brittle)
+        i > 1:  r'^(1-i) = r^(1-i) + (i - 1) |dx| / s_limit              (ductile)
+
+    and s' = (1 - r') s_limit sgn. The paper's explicit update (eq 18):
+    s' = s + dx r^i.
+    """
+    if stretch == 0.0:
+        return s
+    sgn = 1.0 if stretch > 0.0 else -1.0
+    if exponent == 1.0:
+        if update == EXACT:
+            return s_limit * sgn + (s - s_limit * sgn) * math.exp(-abs(stretch) / s_limit)
+        return s + stretch * (1.0 - (s / s_limit) * sgn)
+    r = 1.0 - (s / s_limit) * sgn
+    distance = abs(r)
+    if update == EXACT:
+        slip = abs(stretch) / s_limit
+        if exponent < 1.0:
+            power = 1.0 - exponent
+            base = distance ** power - power * slip
+            distance = base ** (1.0 / power) if base > 0.0 else 0.0
+        elif distance > 0.0:
+            power = exponent - 1.0
+            distance = (distance ** -power + power * slip) ** (-1.0 / power)
+        r = distance if r >= 0.0 else -distance
+        return (1.0 - r) * s_limit * sgn
+    rate = distance ** exponent if distance > 0.0 else 0.0
+    return s + stretch * (rate if r >= 0.0 else -rate)
+
+
+def deformation(states):
+    """(n, 2): the deformation vectors d = s e of states (n, 3) = (s, e_x, e_y)."""
+    return states[:, :1] * states[:, 1:3]

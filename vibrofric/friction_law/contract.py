@@ -1,0 +1,316 @@
+"""What a friction law is: the contract every law, built in or a user's, fulfils.
+
+A law is a Python module (a file or an importable module) that defines
+
+    PARAMETERS      {name: Parameter}: the law's keys in the scene's [contact]
+                    table, with defaults, units and valid ranges, in the order
+                    compiled_parameters() hands them to ``update``
+    STATE_SIZE      the number of floats each contact node carries
+    INITIAL_STATE   a node's state before any motion (STATE_SIZE floats)
+    ORDER           the order in dt at which its update converges
+
+    update(slip_x, slip_y, free_x, free_y, normal_force, area_share, state, params, dt)
+        -> (F_x, F_y)
+        One node over one step, the VFRIC analogue, compiled with numba
+        (nopython; helpers it calls must be @numba.njit). Phase 1: the body
+        end moves by the slip increment (body minus base); phase 2: the free
+        end by (free_x, free_y) (eq 30). ``normal_force`` <= 0 means out of
+        contact. ``area_share`` is the node's share of the contact area: the
+        law shares its whole-contact stiffnesses out by it. ``state`` (its
+        STATE_SIZE floats) is updated in place; ``params`` is the float array
+        compiled_parameters() made. Returns the friction force F, which acts
+        on the body as -F.
+
+    stored_energy(state, params, area_share) -> float
+        The elastic energy the node's state holds (J), compiled; for the
+        energy balance (fem.energy).
+
+    bounds(p, dt) -> Bounds
+        What the integrators need to know of the law at the step dt (``p``:
+        the parameter values by name, and F_N, the contact's normal load).
+
+    steady_sliding_force(p, normal_force, v) -> float
+        The friction force once sliding has settled at the constant slip rate v.
+
+and optionally
+
+    compiled_parameters(p) -> sequence of floats   (default: PARAMETERS' values in order;
+                                                    a choice passes its index)
+    deformation(states) -> (n, 2) array             the elastic deformation of each node's
+                                                    state (n, STATE_SIZE), for ParaView
+    check(p) -> None                                raises ValueError(name, message) for a
+                                                    combination of values the law refuses
+
+The loaded law (FrictionLaw) compiles ``update`` into every time loop that
+uses it (specialize.py); ``fingerprint`` names the compiled code by the law's
+source and the package's, so an edited law is never run from a stale cache.
+"""
+
+import hashlib
+import importlib
+import importlib.util
+import math
+import sys
+import types
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+FASTMATH = {"arcp", "contract"}
+BUILT_IN = {"dahl": "vibrofric.friction_law.dahl", "lugre": "vibrofric.friction_law.lugre"}
+PACKAGE = Path(__file__).resolve().parent.parent
+REQUIRED = ("PARAMETERS", "STATE_SIZE", "INITIAL_STATE", "ORDER", "update", "stored_energy",
+            "bounds", "steady_sliding_force")
+
+
+class LawError(ValueError):
+    """A law that cannot be loaded or breaks the contract."""
+
+
+class ParameterError(ValueError):
+    """A law parameter's value out of its declared range; ``name`` names it."""
+
+    def __init__(self, name: str, message: str):
+        super().__init__(message)
+        self.name = name
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One law parameter: its default, unit, valid range (or choices) and meaning.
+
+    default  a number, a string (then ``choices`` lists the valid ones), or None
+             for "derived by the law from the others" (e.g. LuGre's F_s = mu F_N)
+    low, high, low_open  the valid range: low <= value <= high (low < value if low_open)
+    """
+
+    default: object
+    unit: str = ""
+    low: float = -math.inf
+    high: float = math.inf
+    low_open: bool = False
+    choices: tuple = ()
+    doc: str = ""
+
+    def check(self, name: str, value):
+        """The value as the law takes it (a float, or one of the choices); raises ParameterError."""
+        if self.choices:
+            if value not in self.choices:
+                raise ParameterError(name, f"must be one of {', '.join(self.choices)}, got {value!r}")
+            return value
+        if value is None and self.default is None:
+            return None
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ParameterError(name, f"expected a number, got {value!r}")
+        value = float(value)
+        if not math.isfinite(value):
+            raise ParameterError(name, f"expected a finite number, got {value!r}")
+        if value < self.low or (self.low_open and value == self.low) or value > self.high:
+            low = "(" if self.low_open else "["
+            raise ParameterError(name, f"must lie in {low}{self.low:g}, {self.high:g}], got {value:g}")
+        return value
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """What the integrators need of a law, for the whole contact at a step dt.
+
+    stiffness             N/m: the tangent dF/d(slip) at rest (the implicit matrix's
+                          friction part, the reduction's linearized contact, the
+                          preload's regularization)
+    max_stiffness         N/m: the largest tangent (the explicit stable step)
+    friction_coefficient  F / F_N in steady sliding (the sliding length F / stiffness)
+    max_friction_coefficient  the largest |F| / F_N the law reaches (tipping,
+                          divergence checks)
+    departure             a bound of |dF/d(slip) - stiffness| / stiffness over one
+                          step of dt (the implicit contact iteration's contraction)
+    """
+
+    stiffness: float
+    max_stiffness: float
+    friction_coefficient: float
+    max_friction_coefficient: float
+    departure: float
+
+    def sliding_length(self, normal_force: float) -> float:
+        """The slip that brings the law to sliding: F_c / stiffness (Dahl: s_c)."""
+        return self.friction_coefficient * normal_force / self.stiffness
+
+
+def _source_hash(paths) -> str:
+    digest = hashlib.sha256()
+    for path in paths:
+        digest.update(str(path.relative_to(path.anchor)).encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+_PACKAGE_HASH = []
+
+
+def package_hash() -> str:
+    """A hash of the package's sources: any edit makes every law's compiled loops anew."""
+    if not _PACKAGE_HASH:
+        _PACKAGE_HASH.append(_source_hash(sorted(PACKAGE.rglob("*.py"))))
+    return _PACKAGE_HASH[0]
+
+
+@dataclass(frozen=True, eq=False)
+class FrictionLaw:
+    """A loaded law: its module, its compiled per-node update, and its fingerprint."""
+
+    name: str               # as the scene gives it: "dahl", a module name, or a file path
+    module: types.ModuleType
+    fingerprint: str        # hash of the law's source and the package's (compiled-code name)
+    update: object = field(repr=False)          # numba dispatcher, inlined into the loops
+    stored_energy: object = field(repr=False)
+
+    @property
+    def parameters(self) -> dict:
+        return self.module.PARAMETERS
+
+    @property
+    def state_size(self) -> int:
+        return self.module.STATE_SIZE
+
+    def values(self, given: dict) -> dict:
+        """Every parameter's value, ``given`` checked and the defaults filled in.
+
+        Raises ParameterError naming an unknown or invalid parameter.
+        """
+        unknown = sorted(set(given) - set(self.parameters))
+        if unknown:
+            raise ParameterError(unknown[0], f"not a parameter of the friction law {self.name!r}; "
+                                             f"its parameters: {', '.join(self.parameters)}")
+        values = {name: parameter.check(name, given.get(name, parameter.default))
+                  for name, parameter in self.parameters.items()}
+        return values
+
+    def check(self, p) -> None:
+        """The law's own check of a combination of values (optional ``check(p)``)."""
+        if hasattr(self.module, "check"):
+            try:
+                self.module.check(p)
+            except ValueError as err:
+                name, message = err.args if len(err.args) == 2 else ("law", str(err))
+                raise ParameterError(name, message) from None
+
+    def compiled_parameters(self, p) -> np.ndarray:
+        """The float array ``update`` takes (module.compiled_parameters, else the values in order)."""
+        if hasattr(self.module, "compiled_parameters"):
+            values = self.module.compiled_parameters(p)
+        else:
+            values = [parameter.choices.index(getattr(p, name)) if parameter.choices
+                      else getattr(p, name) for name, parameter in self.parameters.items()]
+        return np.array(values, dtype=np.float64)
+
+    def initial_state(self, nodes: int) -> np.ndarray:
+        """(nodes, STATE_SIZE): every node at rest."""
+        return np.tile(np.asarray(self.module.INITIAL_STATE, dtype=np.float64), (nodes, 1))
+
+    def deformation(self, states: np.ndarray) -> np.ndarray:
+        """(n, 2) elastic deformation of each node's state (zeros if the law does not say)."""
+        if hasattr(self.module, "deformation"):
+            return np.asarray(self.module.deformation(states), dtype=np.float64)
+        return np.zeros((states.shape[0], 2))
+
+
+def _load_module(name: str, base: Path | None):
+    """The law's module and its source file: a built-in name, a .py path or a module name."""
+    if name in BUILT_IN:
+        module = importlib.import_module(BUILT_IN[name])
+        return module, Path(module.__file__)
+    if name.endswith(".py") or "/" in name or "\\" in name:
+        path = Path(name)
+        if not path.is_absolute() and base is not None:
+            path = base / path
+        if not path.is_file():
+            raise LawError(f"no friction law file {path}")
+        digest = hashlib.sha256(path.read_bytes()).hexdigest()[:12]
+        module_name = f"vibrofric_law_{path.stem}_{digest}"
+        if module_name in sys.modules:
+            return sys.modules[module_name], path
+        spec = importlib.util.spec_from_file_location(module_name, path)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[module_name] = module
+        try:
+            spec.loader.exec_module(module)
+        except Exception as err:
+            del sys.modules[module_name]
+            raise LawError(f"{path} could not be loaded: {type(err).__name__}: {err}") from None
+        return module, path
+    try:
+        module = importlib.import_module(name)
+    except ImportError as err:
+        raise LawError(f"{name!r} is neither a built-in law ({', '.join(BUILT_IN)}), a .py file "
+                       f"nor an importable module ({err})") from None
+    return module, Path(module.__file__)
+
+
+def _check_contract(module, where: str) -> None:
+    missing = [name for name in REQUIRED if not hasattr(module, name)]
+    if missing:
+        raise LawError(f"{where} is not a friction law: it lacks {', '.join(missing)} "
+                       "(see vibrofric.friction_law.contract)")
+    if not isinstance(module.PARAMETERS, dict) or not all(
+            isinstance(p, Parameter) for p in module.PARAMETERS.values()):
+        raise LawError(f"{where}: PARAMETERS must map names to friction_law.Parameter")
+    if not isinstance(module.STATE_SIZE, int) or module.STATE_SIZE < 1:
+        raise LawError(f"{where}: STATE_SIZE must be an integer >= 1")
+    if len(module.INITIAL_STATE) != module.STATE_SIZE:
+        raise LawError(f"{where}: INITIAL_STATE must hold STATE_SIZE = {module.STATE_SIZE} values")
+    if not (isinstance(module.ORDER, (int, float)) and module.ORDER > 0):
+        raise LawError(f"{where}: ORDER must be a positive number")
+
+
+def _compiled(function, inline: bool):
+    py_func = getattr(function, "py_func", function)
+    options = {"error_model": "numpy", "fastmath": FASTMATH}
+    if inline:
+        options["inline"] = "always"
+    return njit(**options)(py_func)
+
+
+_LOADED = {}
+
+
+def load_law(name: str, base: Path | None = None) -> FrictionLaw:
+    """The friction law ``name`` (a built-in, a .py file relative to ``base``, or a module).
+
+    Raises LawError for a law that cannot be found or breaks the contract.
+    """
+    module, source = _load_module(name, base)
+    key = (module.__name__, source)
+    if key not in _LOADED:
+        _check_contract(module, str(source) if name not in BUILT_IN else name)
+        digest = hashlib.sha256((package_hash() + _source_hash([source.resolve()])).encode())
+        _LOADED[key] = FrictionLaw(name, module, digest.hexdigest()[:16],
+                                   _compiled(module.update, inline=True),
+                                   _compiled(module.stored_energy, inline=True))
+    return _LOADED[key]
+
+
+@dataclass(frozen=True, eq=False)
+class ContactLaw:
+    """A law with its parameter values, for a contact of total normal load F_N."""
+
+    law: FrictionLaw
+    values: dict
+    F_N: float
+
+    @property
+    def p(self) -> types.SimpleNamespace:
+        """The values by name, and F_N: what the law's Python functions take."""
+        return types.SimpleNamespace(**self.values, F_N=self.F_N)
+
+    @property
+    def params(self) -> np.ndarray:
+        return self.law.compiled_parameters(self.p)
+
+    def bounds(self, dt: float) -> Bounds:
+        return self.law.module.bounds(self.p, dt)
+
+    def steady_sliding_force(self, normal_force: float, v: float) -> float:
+        return float(self.law.module.steady_sliding_force(self.p, normal_force, v))
