@@ -139,10 +139,11 @@ class Bounds:
         return self.friction_coefficient * normal_force / self.stiffness
 
 
-def _source_hash(paths) -> str:
+def _source_hash(paths, root: Path) -> str:
+    """A hash of the files' names (relative to root) and contents."""
     digest = hashlib.sha256()
     for path in paths:
-        digest.update(str(path.relative_to(path.anchor)).encode())
+        digest.update(str(path.relative_to(root)).encode())
         digest.update(path.read_bytes())
     return digest.hexdigest()
 
@@ -153,7 +154,7 @@ _PACKAGE_HASH = []
 def package_hash() -> str:
     """A hash of the package's sources: any edit makes every law's compiled loops anew."""
     if not _PACKAGE_HASH:
-        _PACKAGE_HASH.append(_source_hash(sorted(PACKAGE.rglob("*.py"))))
+        _PACKAGE_HASH.append(_source_hash(sorted(PACKAGE.rglob("*.py")), PACKAGE))
     return _PACKAGE_HASH[0]
 
 
@@ -285,7 +286,8 @@ def load_law(name: str, base: Path | None = None) -> FrictionLaw:
     key = (module.__name__, source)
     if key not in _LOADED:
         _check_contract(module, str(source) if name not in BUILT_IN else name)
-        digest = hashlib.sha256((package_hash() + _source_hash([source.resolve()])).encode())
+        law_file = source.resolve()
+        digest = hashlib.sha256((package_hash() + _source_hash([law_file], law_file.parent)).encode())
         _LOADED[key] = FrictionLaw(name, module, digest.hexdigest()[:16],
                                    _compiled(module.update, inline=True),
                                    _compiled(module.stored_energy, inline=True))
