@@ -20,6 +20,9 @@ SMALL = bench.Plan(
     dofs_cases=(("reduced", (("tiny", 1e-5), ("2x2x2", 1e-5), ("2x3x3", 1e-5))),),
     dofs_T=0.01,
     time_cases=(("reduced", "tiny", 1e-5, (0.01, 0.02, 0.04)),),
+    laws=(("Dahl, i = 2", "dahl", {"dahl_exponent": 2.0}),),
+    law_dt=2e-6,
+    law_fe=("reduced", "tiny", 1e-5),
 )
 
 
@@ -80,3 +83,18 @@ def test_bench_command_writes_its_report(small, tmp_path, monkeypatch, capsys):
     assert main(["bench", "--quick", "--out", str(out)]) == 0
     assert {p.name for p in out.iterdir()} == {".vibrofric", "bench.md", "bench.png"}
     assert (out / "bench.md").read_text() in capsys.readouterr().out
+
+
+def test_a_law_row_is_against_its_own_reference(small):
+    """The law row's stepper runs that law (another answer than Dahl's i = 1), its error
+    is against its own reference, and the FE run's against the same reference."""
+    (row,) = small["laws"]
+    dahl = next(m for m in small["rows"] if m.method == "analytic exact" and m.setting == "dt = 2e-06")
+    assert abs(row.analytic.ratio - dahl.ratio) > 1e-3
+    assert row.analytic.error == pytest.approx((row.analytic.ratio - row.reference) / row.reference,
+                                               rel=1e-12)
+    # first order in dt, as the Dahl rows: 2e-6 s errs by ~1e-3 of F_dv/F_d0 at most
+    assert 0.0 < abs(row.analytic.error) < 1e-2
+    assert row.fe.vs_analytic == pytest.approx((row.fe.ratio - row.reference) / row.reference,
+                                               rel=1e-12)
+    assert "| Dahl, i = 2 |" in bench.markdown(small)

@@ -210,3 +210,22 @@ def test_a_law_that_breaks_the_contract_is_refused_before_any_work(tmp_path, cap
     error = capsys.readouterr().err
     assert code == 2 and message in error and error.count("\n") == 1
     assert not (tmp_path / "out").exists()
+
+
+def test_the_example_law_runs_in_the_fe_model_through_the_command(tmp_path, capsys):
+    """``vibrofric run`` (FE and analytic) on the example scene, shortened: the FE model
+    calls the user's law per node and agrees with the lumped model as for Dahl (the
+    tiny mesh's block compliance: within 5%)."""
+    pytest.importorskip("dolfinx")
+    import json
+
+    from vibrofric.cli import main
+
+    code = main(["run", str(ROOT / "examples" / "laws" / "maxwell_slip.toml"),
+                 "--set", "time.T=0.006", "--set", "vibration.t_on=0.002",
+                 "--set", "time.average_cycles=8", "--set", 'fem.mesh="tiny"',
+                 "--set", "fem.output_every=0", "--out", str(tmp_path / "out"), "--json"])
+    assert code == 0
+    document = json.loads(capsys.readouterr().out)
+    fe, analytic = document["fe"]["F_dv_over_F_d0"], document["analytic"]["F_dv_over_F_d0"]
+    assert abs(fe - analytic) < 0.05 * analytic

@@ -37,6 +37,14 @@ import numpy as np
 from . import scene as scene_module
 
 SCENE = Path(__file__).resolve().parent.parent / "scenes" / "longitudinal.toml"
+EXAMPLE_LAW = Path(__file__).resolve().parent.parent / "examples" / "laws" / "maxwell_slip.py"
+
+# The friction laws the bench compares on the same scene: (label, contact.law, its parameters).
+LAWS = (("Dahl, i = 1", "dahl", {}),
+        ("Dahl, i = 0.5", "dahl", {"dahl_exponent": 0.5}),
+        ("Dahl, i = 2", "dahl", {"dahl_exponent": 2.0}),
+        ("LuGre, F_s = 1.2 F_c, v_s = 2 mm/s", "lugre", {"F_s": 6.6, "v_s": 2e-3}),
+        ("Maxwell-slip (examples/laws)", str(EXAMPLE_LAW), {}))
 
 # The short run the cost growth is measured on: vibration from 1 ms, F_dv over 20 cycles.
 GROWTH = {"vibration.t_on": 0.001, "time.average_cycles": 20}
@@ -54,6 +62,9 @@ class Plan:
     dofs_cases: tuple          # (integrator, ((mesh, dt), ...)): cost against DOFs
     dofs_T: float              # s simulated in the DOFs cases
     time_cases: tuple          # (integrator, mesh, dt, (T, ...)): cost against simulated time
+    laws: tuple = ()           # (label, law, parameters): a row per friction law (LAWS)
+    law_dt: float = 1e-6       # the analytic stepper's step in the law rows
+    law_fe: tuple = ()         # (integrator, mesh, dt) of the law rows' FE run; () for none
 
 
 _MESH_STEPS = (("tiny", 2e-6), ("coarse", 1e-6), ("medium", 5e-7))  # explicit: below each stable step
@@ -73,6 +84,8 @@ QUICK = Plan(
     dofs_T=0.01,
     time_cases=(("implicit", "coarse", 1e-5, (0.01, 0.02, 0.04)),
                 ("reduced", "coarse", 1e-5, (0.02, 0.04, 0.08, 0.16))),
+    laws=LAWS,
+    law_fe=("reduced", "coarse", 1e-5),
 )
 
 FULL = Plan(
@@ -88,6 +101,8 @@ FULL = Plan(
                 ("reduced", tuple((mesh, 1e-5) for mesh, _ in _MESH_STEPS) + (("fine", 1e-5),))),
     dofs_T=0.01,
     time_cases=QUICK.time_cases[:1] + (("reduced", "coarse", 1e-5, (0.02, 0.04, 0.08, 0.16, 0.32)),),
+    laws=LAWS,
+    law_fe=("reduced", "coarse", 1e-5),
 )
 
 
@@ -116,6 +131,35 @@ def measure_analytic(scene, update: str, dt: float, repeats: int = 3) -> Measure
     best = min((run(case)[1] for _ in range(repeats)), key=lambda s: s["wall_time_s"])
     return Measurement(f"analytic {update}", f"dt = {dt:g}", 0, best["wall_time_s"],
                        best["F_dv_over_F_d0"])
+
+
+@dataclass
+class LawRow:
+    """One friction law on the bench's scene: the analytic stepper against its own
+    converged reference, and (if the plan asks) an FE run against that reference."""
+
+    label: str
+    analytic: Measurement
+    reference: float            # F_dv/F_d0 of the stepper at plan.analytic_reference_dt
+    fe: Measurement | None = None
+
+
+def measure_law(scene, plan: Plan, label: str, law: str, parameters: dict) -> LawRow:
+    """The law's row: the stepper at plan.law_dt (best of 3), its reference, the FE run."""
+    from .analytic.run import run
+
+    case = scene.with_law(law, parameters)
+    reference = run(case.with_values({"time.dt": plan.analytic_reference_dt}))[1]["F_dv_over_F_d0"]
+    stepped = case.with_values({"time.dt": plan.law_dt})
+    best = min((run(stepped)[1] for _ in range(3)), key=lambda s: s["wall_time_s"])
+    analytic = Measurement(f"analytic {label}", f"dt = {plan.law_dt:g}", 0, best["wall_time_s"],
+                           best["F_dv_over_F_d0"])
+    analytic.error = relative(analytic.ratio, reference)
+    row = LawRow(label, analytic, reference)
+    if plan.law_fe:
+        row.fe = measure_fe(case, *plan.law_fe)
+        row.fe.vs_analytic = relative(row.fe.ratio, reference)
+    return row
 
 
 def measure_fe(scene, integrator: str, mesh: str, dt: float, values=None) -> Measurement:
@@ -195,8 +239,12 @@ def bench(plan: Plan, progress=print) -> dict:
                        [p.loop_s for p in points]))
     growth = [(axis, integrator, points, x, y, fitted_exponent(x, y))
               for axis, integrator, points, x, y in growth]
+    laws = []
+    for label, law, parameters in plan.laws:
+        progress(f"friction law: {label}")
+        laws.append(measure_law(scene, plan, label, law, parameters))
     return {"plan": plan, "analytic_reference": analytic_reference, "fe_reference": fe_reference,
-            "rows": rows, "growth": growth}
+            "rows": rows, "growth": growth, "laws": laws}
 
 
 def markdown(result: dict) -> str:
@@ -229,6 +277,23 @@ def markdown(result: dict) -> str:
         pairs = ", ".join(f"{size:g}: {p.loop_s:.3g}, {p.setup_s:.2g}"
                           for size, p in zip(x, points))
         lines.append(f"| {axis} | {integrator} | {pairs} | {exponent:.2f} |")
+    if result["laws"]:
+        lines += ["",
+                  f"Friction laws on the same scene: the analytic stepper at dt = "
+                  f"{plan.law_dt:g} s against its own reference at dt = "
+                  f"{plan.analytic_reference_dt:g} s"
+                  + (f"; FE {plan.law_fe[0]}, {plan.law_fe[1]} mesh, dt = {plan.law_fe[2]:g} s, "
+                     "against the same reference" if plan.law_fe else "") + ".",
+                  "",
+                  "| law | reference F_dv/F_d0 | analytic wall s | analytic error "
+                  "| FE wall s | FE F_dv/F_d0 | FE vs analytic |",
+                  "|---|---|---|---|---|---|---|"]
+        for row in result["laws"]:
+            fe = row.fe
+            fe_cells = (f"{fe.wall_s:.3g} | {fe.ratio:.5f} | {fe.vs_analytic:+.2%}" if fe
+                        else "- | - | -")
+            lines.append(f"| {row.label} | {row.reference:.5f} | {row.analytic.wall_s:.3g} "
+                         f"| {row.analytic.error:+.2e} | {fe_cells} |")
     return "\n".join(lines) + "\n"
 
 

@@ -230,6 +230,21 @@ class Scene:
             raw.setdefault(section, {})[name] = value
         return from_dict(raw, self.name)
 
+    def with_law(self, law: str, parameters: dict | None = None) -> "Scene":
+        """A copy with another friction law: ``parameters`` set, and the present law's
+        parameters kept where the new law has them (k_t, mu, ...)."""
+        try:
+            known = load_law(law).parameters
+        except LawError as err:
+            raise SceneError("contact.law", str(err)) from None
+        raw = to_dict(self)
+        contact = raw["contact"]
+        kept = {key: value for key, value in contact.items()
+                if key in known and key not in CONTACT_KEYS}
+        raw["contact"] = {**{key: contact[key] for key in CONTACT_KEYS}, **kept, "law": law,
+                          **(parameters or {})}
+        return from_dict(raw, self.name)
+
 
 def _split_key(key: str):
     """(section, name) of a scene key; a [contact] key other than CONTACT_KEYS is a law

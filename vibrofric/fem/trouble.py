@@ -51,7 +51,7 @@ def failure(step, code, scene, hint) -> NumericalError:
     The paper's explicit Dahl update diverging gets its own hint whatever the integrator.
     """
     dt = scene.time.dt
-    if code == FRICTION_DIVERGED and scene.contact.update == "paper":
+    if code == FRICTION_DIVERGED and scene.contact.law_values.get("update") == "paper":
         hint = ("the paper's explicit Dahl update is stable only while |v_r| dt < 2 s_c per node; "
                 "use contact.update = \"exact\" or a smaller time.dt")
     return NumericalError(f"FE run failed at t = {step * dt:.6g} s (step {step}, dt = {dt:g} s): "
