@@ -167,8 +167,9 @@ def test_one_fe_contact_node_reproduces_the_lumped_forces(name):
     assert np.abs(fe[:, 1] - lumped.F_y).max() <= 1e-10 * scale
 
 
+@pytest.mark.parametrize("theta", [0.0, 90.0])   # longitudinal and transverse vibration
 @pytest.mark.parametrize("name", LAWS)
-def test_the_drive_force_converges_in_dt_at_the_declared_order(name):
+def test_the_drive_force_converges_in_dt_at_the_declared_order(name, theta):
     """The mean drive force over the averaging window at dt, dt/2, dt/4 against dt/16:
     the errors fall by ~2^ORDER a halving (the observed order within 0.5 of it: the
     stick-slip events make the error curve ragged at this short run)."""
@@ -177,7 +178,7 @@ def test_the_drive_force_converges_in_dt_at_the_declared_order(name):
     means = []
     for dt in (4e-6, 2e-6, 1e-6, 2.5e-7):
         series = run_coupled(short_scene(name, f"time.dt={dt}", "time.series_dt=4e-6",
-                                         "vibration.theta_deg=30"))
+                                         f"vibration.theta_deg={theta}"))
         means.append(series.F_d[series.t >= 0.008].mean())
     errors = np.abs(np.array(means[:3]) - means[3])
     observed = np.log2(errors[0] / errors[2]) / 2.0
@@ -196,17 +197,28 @@ def test_the_example_law_runs_through_the_command(tmp_path, capsys):
     assert '"F_dv_over_F_d0"' in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("source, message", [
-    ("PARAMETERS = {}\n", "is not a friction law: it lacks STATE_SIZE"),
-    ("raise RuntimeError('broken')\n", "could not be loaded: RuntimeError: broken"),
+@pytest.mark.parametrize("source, extra, message", [
+    ("PARAMETERS = {}\n", [], "is not a friction law: it lacks STATE_SIZE"),
+    ("raise RuntimeError('broken')\n", [], "could not be loaded: RuntimeError: broken"),
+    (None, [], "contact.law: no friction law file"),
+    ((ROOT / "examples" / "laws" / "maxwell_slip.py").read_text(), ["contact.stiffness=1e6"],
+     "contact.stiffness: not a parameter of the friction law"),
+    ((ROOT / "examples" / "laws" / "maxwell_slip.py").read_text(), ["contact.mu=-0.1"],
+     "contact.mu: must lie in [0, inf], got -0.1"),
 ])
-def test_a_law_that_breaks_the_contract_is_refused_before_any_work(tmp_path, capsys, source, message):
+def test_a_law_that_breaks_the_contract_is_refused_before_any_work(tmp_path, capsys, source, extra,
+                                                                    message):
+    """A missing law file, a module that breaks the contract, an unknown or invalid law
+    parameter: one line naming it, exit 2, nothing written."""
     from vibrofric.cli import main
 
     law = tmp_path / "bad_law.py"
-    law.write_text(source)
-    code = main(["analytic", str(ROOT / "scenes" / "longitudinal.toml"),
-                 "--set", f'contact.law="{law}"', "--out", str(tmp_path / "out")])
+    if source is not None:
+        law.write_text(source)
+    scene = tmp_path / "scene.toml"
+    scene.write_text('[contact]\nlaw = "bad_law.py"\n')
+    code = main(["analytic", str(scene), *[arg for value in extra for arg in ("--set", value)],
+                 "--out", str(tmp_path / "out")])
     error = capsys.readouterr().err
     assert code == 2 and message in error and error.count("\n") == 1
     assert not (tmp_path / "out").exists()

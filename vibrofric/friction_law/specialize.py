@@ -9,12 +9,16 @@ compiles it with numba, cached on disk under a name that carries
 ``law.fingerprint`` (the law's source and the package's). So the law is
 inlined into the loop as if written there, a second run loads the compiled
 loop from the cache, and an edited law or package compiles anew: no stale
-compiled code is ever used.
+compiled code is ever used. Of each loop the KEPT_VERSIONS most recent
+compiled versions stay on disk.
 """
 
 import types
+from pathlib import Path
 
 from numba import njit
+
+KEPT_VERSIONS = 8  # compiled versions of a loop kept on disk (laws in use, package edits)
 
 
 class LawKernel:
@@ -49,7 +53,29 @@ class LawKernel:
             function.__doc__ = f.__doc__
             compiled = njit(**self.options)(function)
             self._compiled[law.fingerprint] = compiled
+            if self.options.get("cache"):
+                _prune(compiled, f"{Path(f.__code__.co_filename).stem}.{f.__qualname__}__")
         return compiled
+
+
+def _prune(dispatcher, prefix: str) -> None:
+    """Remove the compiled versions of a loop beyond the KEPT_VERSIONS most recent
+    (best effort: another process may be removing or writing them too)."""
+    try:
+        directory = Path(dispatcher._cache._cache_path)  # numba's cache locator
+    except AttributeError:
+        return
+    versions = {}
+    try:
+        for path in directory.glob(prefix + "*.nb[ic]"):
+            fingerprint = path.name[len(prefix):].split("-", 1)[0]
+            versions.setdefault(fingerprint, []).append((path.stat().st_mtime, path))
+        newest = sorted(versions, key=lambda key: max(versions[key])[0], reverse=True)
+        for fingerprint in newest[KEPT_VERSIONS:]:
+            for _, path in versions[fingerprint]:
+                path.unlink(missing_ok=True)
+    except OSError:
+        pass
 
 
 def law_kernel(**options):

@@ -1,0 +1,63 @@
+"""Loops compiled per friction law: an edited law never runs stale, a law found by module
+name, and the compiled versions kept on disk bounded."""
+
+import os
+import subprocess
+import sys
+import types
+from pathlib import Path
+
+from vibrofric.friction_law import load_law, specialize
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "examples" / "laws" / "maxwell_slip.py"
+
+
+def run_analytic(scene: Path, out: Path) -> str:
+    """F_dv/F_d0 of ``vibrofric analytic`` in a fresh process (numba's disk cache only)."""
+    done = subprocess.run([sys.executable, "-m", "vibrofric.cli", "analytic", str(scene),
+                           "--set", "time.T=0.2", "--out", str(out), "--json"],
+                          capture_output=True, text=True, check=True, cwd=ROOT)
+    return done.stdout.split('"F_dv_over_F_d0": ')[1].split(",")[0]
+
+
+def test_an_edited_law_is_compiled_anew_never_run_stale(tmp_path):
+    """Run a user's law, edit it, run again in a new process: the second run uses the
+    edited law (a different answer), not the first run's cached loop."""
+    law = tmp_path / "my_law.py"
+    law.write_text(EXAMPLE.read_text())
+    scene = tmp_path / "scene.toml"
+    scene.write_text((ROOT / "examples" / "laws" / "maxwell_slip.toml").read_text()
+                     .replace('"maxwell_slip.py"', '"my_law.py"'))
+    first = run_analytic(scene, tmp_path / "first")
+    again = run_analytic(scene, tmp_path / "again")
+    law.write_text(EXAMPLE.read_text().replace("ELEMENTS = 4", "ELEMENTS = 2"))
+    edited = run_analytic(scene, tmp_path / "edited")
+    assert first == again          # cached or not, the same law gives the same answer
+    assert edited != first         # the edit is in effect
+
+
+def test_a_law_is_found_by_its_module_name(tmp_path, monkeypatch):
+    package = tmp_path / "lawpack"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "slip.py").write_text(EXAMPLE.read_text())
+    monkeypatch.syspath_prepend(str(tmp_path))
+    law = load_law("lawpack.slip")
+    assert law.module.__name__ == "lawpack.slip" and law.state_size == 8
+
+
+def test_only_the_most_recent_compiled_versions_stay_on_disk(tmp_path):
+    prefix = "coupled.coupled_loop__"
+    for age, fingerprint in enumerate(f"{k:016x}" for k in range(12)):
+        for suffix in ("-41.py311.nbi", "-41.py311.1.nbc"):
+            path = tmp_path / f"{prefix}{fingerprint}{suffix}"
+            path.write_text("")
+            os.utime(path, (1e9 - age, 1e9 - age))   # fingerprint 0 the newest
+    other = tmp_path / "coupled._record-30.py311.nbi"
+    other.write_text("")
+    dispatcher = types.SimpleNamespace(_cache=types.SimpleNamespace(_cache_path=str(tmp_path)))
+    specialize._prune(dispatcher, prefix)
+    kept = {path.name[len(prefix):][:16] for path in tmp_path.glob(prefix + "*")}
+    assert kept == {f"{k:016x}" for k in range(specialize.KEPT_VERSIONS)}
+    assert other.exists()
