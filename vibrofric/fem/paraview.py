@@ -9,7 +9,7 @@ Every frame holds, on the mesh's Q1 nodes:
     friction_traction  F_i / a_i (vector, Pa): the friction force per tributary area
     friction_force     F_i (vector, N): the nodal friction force of contact.py, so
                        that its sum over the contact face is the series' (F_x, F_y)
-    dahl_state         s_i e_i (vector, m): the asperity deformation N' - M
+    asperity_deformation  the law's elastic deformation (vector, m; Dahl, LuGre: s_i e_i = N' - M)
     slip               (u_x - u0_x - x_b, u_y - u0_y - y_b) (vector, m): the node's
                        displacement relative to the base since the preload
 
