@@ -111,7 +111,7 @@ $(VENV_LATEST)/.installed: pyproject.toml
 	  print(f'$(VENV_LATEST): DOLFINx {dolfinx.__version__}, numpy {numpy.__version__}, numba {numba.__version__}, gmsh {gmsh.__version__}')"
 	touch $@
 
-# numba's cache does not see edits to functions compiled into other files
+# numba's compiled functions (the per-law loops recompile by themselves after an edit)
 clean-cache:
 	find vibrofric -name '*.nbi' -delete -o -name '*.nbc' -delete
 

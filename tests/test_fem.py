@@ -313,7 +313,6 @@ def test_dt_above_the_stable_step_is_refused_with_the_limit(tmp_path, comm):
 @pytest.mark.parametrize("overrides, key", [
     (['fem.mesh="huge"'], "fem.mesh"),
     (['fem.integrator="leapfrog"'], "fem.integrator"),
-    (['drive.mode="velocity"'], "drive.mode"),
     (["contact.F_N=2.0"], "contact.F_N"),                         # below the block's weight
     (['drive.attach="front-face"', "contact.mu=0.6"], "drive.attach"),  # tips the block over
 ])

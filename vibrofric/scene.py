@@ -35,7 +35,6 @@ REFUSAL_KEYS = {
     errors.StepTooLong: "time.dt",
     errors.NormalLoadTooSmall: "contact.F_N",
     errors.DriveTipsBlock: "drive.attach",
-    errors.UnsupportedDrive: "drive.mode",
     errors.NoEnergyBalance: "fem.energy",
     errors.ReductionFailed: "fem.cutoff",
 }

@@ -26,10 +26,6 @@ class DriveTipsBlock(Refusal):
     """The drive's line of action would tip the block over."""
 
 
-class UnsupportedDrive(Refusal):
-    """A drive the model does not implement."""
-
-
 class NoEnergyBalance(Refusal):
     """An energy balance asked of an integrator that keeps none."""
 

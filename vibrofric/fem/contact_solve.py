@@ -136,7 +136,7 @@ def _contact_space(qc, xa, t, step, contact_dofs, contact, params, drive, scheme
     Fills g (work) with g_c = f_c + l q_c and returns (F_d, sum N, sum F_x, sum F_y);
     the trial asperity states and forces land in work (not committed).
     """
-    k_d, v_d = drive
+    k_d, v_d, prescribed = drive
     g, trial_state = work.g, work.trial_state
     normal_t, force_t = work.normal_t, work.force_t
     f_n = f_x = f_y = 0.0
@@ -225,19 +225,47 @@ def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, s
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive, scheme,
-              states, work):
+def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
+              drive_now, scheme, states, work):
     """Evaluate the contact space at (qc, x_a): fills g, target = y_c + (1 - af) (G g + h F_d)
-    and rho = qc - target (work). Returns (F_d, sum N, sum F_x, sum F_y, max |rho|, the
-    x_A the fixed point maps x_a to)."""
+    and rho = qc - target (work). Returns (F_d, F_hold, sum N, sum F_x, sum F_y, max |rho|,
+    the x_A the fixed point maps x_a to).
+
+    F_d is the drive spring's k_d (v_d t - x_a) (eq 17), F_hold = 0. A prescribed
+    drive (drive.mode = "velocity") puts its attachment at x_A = v_d t, y_A = 0:
+    (F_d, F_hold) are the reactions that do it, from
+
+        x_A = y_A + (1 - af) (h^T g_c + e F_d + e_xy F_hold) = v_d t
+        y_A = y_Ay + (1 - af) (h_y^T g_c + e_xy F_d + e_yy F_hold) = 0
+
+    with drive_now = (y_Ay, h_y, e_xy, e_yy) (implicit.Operators).
+    """
     g, target, rho, yc = work.g, work.target, work.rho, work.yc
     f_d, f_n, f_x, f_y = _contact_space(qc, x_a, t, step, contact_dofs, contact, params, drive,
                                         scheme, states, work)
     apply(G, g, target)
+    f_hold = 0.0
+    if drive.prescribed:
+        y_ay, h_y, e_xy, e_yy = drive_now
+        hg = hyg = 0.0
+        for p in range(qc.shape[0]):
+            hg += h[p] * g[p]
+            hyg += h_y[p] * g[p]
+        r_x = (drive.v_d * t - y_a) / af1 - hg
+        r_y = -y_ay / af1 - hyg
+        det = e * e_yy - e_xy * e_xy
+        f_d = (e_yy * r_x - e_xy * r_y) / det
+        f_hold = (e * r_y - e_xy * r_x) / det
+        residual = 0.0
+        for p in range(qc.shape[0]):
+            target[p] = yc[p] + af1 * (target[p] + h[p] * f_d + h_y[p] * f_hold)
+            rho[p] = qc[p] - target[p]
+            residual = max(residual, abs(rho[p]))
+        return f_d, f_hold, f_n, f_x, f_y, residual, drive.v_d * t
     hg = residual = 0.0
     for p in range(qc.shape[0]):
         target[p] = yc[p] + af1 * (target[p] + h[p] * f_d)
         rho[p] = qc[p] - target[p]
         residual = max(residual, abs(rho[p]))
         hg += h[p] * g[p]
-    return f_d, f_n, f_x, f_y, residual, y_a + af1 * (hg + e * f_d)
+    return f_d, f_hold, f_n, f_x, f_y, residual, y_a + af1 * (hg + e * f_d)

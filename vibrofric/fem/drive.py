@@ -10,6 +10,11 @@ state, and its force is spread over the same nodes by the same weights:
 (the same weights both ways make the spring the symmetric rank-one stiffness
 k_d w w^T: it stores energy k_d (v_d t - x_A)^2 / 2 and nothing else).
 
+With drive.mode = "velocity" (prescribed sliding, as the lumped model's
+prescribed mode and the closed-form literature) there is no spring: x_A = v_d t
+exactly, and F_d is the constraint's force, spread by the same weights (each
+integrator solves for it: explicit.py, contact_solve._residual).
+
 Where it attaches (scene drive.attach, docs/model.md section 5):
 
 contact-plane
@@ -27,16 +32,12 @@ import numpy as np
 from numba import njit
 
 from .. import meshes
-from ..core.errors import UnsupportedDrive
 
 ATTACH_FACES = {"contact-plane": meshes.CONTACT, "front-face": meshes.FRONT}
 
 
 def attachment(scene, face_area: dict):
     """(nodes, weights) of the drive's attachment: the face's nodes by area share."""
-    if scene.drive.mode != "spring":
-        raise UnsupportedDrive(f"drive mode {scene.drive.mode!r} is not implemented by the FE model; "
-                                       "use \"spring\" (the paper's drive spring)")
     area = face_area[ATTACH_FACES[scene.drive.attach]]
     nodes = np.flatnonzero(area > 0.0).astype(np.int64)
     return nodes, area[nodes] / area[nodes].sum()

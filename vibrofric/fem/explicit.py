@@ -47,7 +47,7 @@ from .time_loop import Started, TimeLoop
 def explicit_steps(first, last, dt,
                    stiffness, inverse_mass, load, beta,
                    contact_nodes, penalty_share, area_share, params, eta_y,
-                   attach_nodes, attach_weights, k_d, v_d,
+                   attach_nodes, attach_weights, k_d, v_d, prescribed,
                    amplitude, omega, t_on, cos_theta, sin_theta,
                    F_N, mu_max,
                    reference, u, v, work, force_sum, disp, disp_new, vel_z,
@@ -56,6 +56,11 @@ def explicit_steps(first, last, dt,
     (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py).
 
     ``stiffness`` is K in block sparse rows of 3x3 node blocks (linalg.bsr).
+    A ``prescribed`` drive (drive.mode = "velocity") replaces the spring by the
+    constraints x_A = v_d t, y_A = 0: their forces (on the nodes by their weights
+    w_a) are those that put the attachment there at the end of the step,
+    F_d = (v_d t - x_A*) / (dt^2 sum_a w_a^2 / m_a), x_A* the step without it
+    (and in Y the same towards 0).
     All state lives in the arrays (u, v, disp, states, normal,
     friction, scalars, recorder, steady) so that a run can be resumed chunk by chunk.
     """
@@ -70,7 +75,7 @@ def explicit_steps(first, last, dt,
         t = i * dt
         # Drive force at the start of the step (eq 17).
         x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
-        f_d = k_d * (v_d * (t - dt) - x_a)
+        f_d = 0.0 if prescribed else k_d * (v_d * (t - dt) - x_a)
 
         # f = f_ext - K (u + beta v): elastic and stiffness-proportional damping forces.
         for k in range(dofs):
@@ -91,6 +96,20 @@ def explicit_steps(first, last, dt,
         for k in range(dofs):
             v[k] += dt * inverse_mass[k] * force_sum[k]
             u[k] += dt * v[k]
+        if prescribed:
+            x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
+            compliance = 0.0
+            for a in range(attach_nodes.shape[0]):
+                compliance += attach_weights[a] ** 2 * inverse_mass[3 * attach_nodes[a]]
+            f_d = (v_d * t - x_a) / (dt * dt * compliance)
+            f_hold = -y_a / (dt * dt * compliance)   # held in Y (lumped mass: the same in X and Y)
+            for a in range(attach_nodes.shape[0]):
+                d = 3 * attach_nodes[a]
+                kick = dt * inverse_mass[d] * attach_weights[a]
+                v[d] += kick * f_d
+                u[d] += dt * kick * f_d
+                v[d + 1] += kick * f_hold
+                u[d + 1] += dt * kick * f_hold
 
         # Base at t_{n+1} (eqs 23-25).
         u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
@@ -116,7 +135,8 @@ def explicit_steps(first, last, dt,
         xb, yb = xb_new, yb_new
 
         x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
-        f_d = k_d * (v_d * t - x_a)  # eq 17
+        if not prescribed:
+            f_d = k_d * (v_d * t - x_a)  # eq 17; prescribed: the constraint's force
 
         # Numerical trouble stops the run at once.
         code = finish_step(t, t_on, f_d, f_n, f_x, f_y, x_a, y_a, xb, yb, magnitude, F_N, mu_max,
@@ -181,6 +201,7 @@ class ExplicitRun(TimeLoop):
                 stiffness, model.inverse_mass, model.load, model.beta,
                 model.contact_nodes, model.penalty_share, model.area_share, law.params, c.eta_y,
                 model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
+                scene.drive.mode == "velocity",
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                 c.F_N, scene.mu_max,
                 model.u0, u, v, work, force_sum, disp, disp_new, vel_z,

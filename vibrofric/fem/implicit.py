@@ -121,7 +121,7 @@ from .step_cost import step_cost
 from .time_loop import Started, TimeLoop
 
 # scalars[]: the loop's carried scalar state, after recording's
-F_D, ITER_MAX, ITER_SUM, STALLED = range(8, 12)
+F_D, ITER_MAX, ITER_SUM, STALLED, F_HOLD = range(8, 13)
 
 
 class Work(NamedTuple):
@@ -136,7 +136,7 @@ class Work(NamedTuple):
     rhs: np.ndarray         # (n,) b_n
     y: np.ndarray           # (n,) A^-1 b_n
     q_new: np.ndarray       # (n,) q_{n+1}
-    gw: np.ndarray          # (nc + 1,) [g_c; F_d]
+    gw: np.ndarray          # (nc + 2,) [g_c; F_d; F_hold] (F_hold: a drive held in Y)
     qc: np.ndarray          # (nc,) the contact-space iterate
     yc: np.ndarray
     target: np.ndarray
@@ -156,7 +156,7 @@ class Work(NamedTuple):
     @classmethod
     def allocate(cls, n: int, contacts: int, substeps: int, state_size: int) -> "Work":
         nc = 3 * contacts
-        return cls(*(np.empty(n) for _ in range(9)), np.empty(nc + 1),
+        return cls(*(np.empty(n) for _ in range(9)), np.empty(nc + 2),
                    *(np.empty(nc) for _ in range(6)),
                    np.empty((contacts, state_size)), np.empty(state_size),
                    np.empty(contacts), np.empty((contacts, 2)),
@@ -170,10 +170,13 @@ class Operators(NamedTuple):
     mass: object            # M: diagonal array (full) or dense matrix (reduced)
     stiffness: object       # K: BSR blocks (full) or dense matrix (reduced)
     inv: object             # A^-1: its factorization (linalg.py)
-    Z: np.ndarray           # A^-1 [P d_x]
+    Z: np.ndarray           # A^-1 [P d_x] (and d_y for a drive held in Y)
     G: np.ndarray           # P^T A^-1 P
     h: np.ndarray           # P^T A^-1 d_x
     e: float                # d_x^T A^-1 d_x
+    h_y: np.ndarray         # P^T A^-1 d_y   (a prescribed drive, held in Y; else zeros)
+    e_xy: float             # d_x^T A^-1 d_y
+    e_yy: float             # d_y^T A^-1 d_y
     contact_dofs: np.ndarray
     others: np.ndarray      # the q indices that are not contact DOFs
     drive_index: np.ndarray
@@ -195,6 +198,7 @@ class BaseMotion(NamedTuple):
 class Drive(NamedTuple):
     k_d: float
     v_d: float
+    prescribed: bool    # drive.mode = "velocity": the attachment moves at exactly v_d
 
 
 class Limits(NamedTuple):
@@ -211,7 +215,7 @@ class ImplicitRun(TimeLoop):
     says what was prepared; ``integrate`` (time_loop.TimeLoop) runs it.
     """
 
-    extra_scalars = 4  # F_D, ITER_MAX, ITER_SUM, STALLED
+    extra_scalars = 5  # F_D, ITER_MAX, ITER_SUM, STALLED, F_HOLD
 
     def __init__(self, scene, model, system: LinearSystem, name="implicit"):
         t = scene.time
@@ -237,17 +241,27 @@ class ImplicitRun(TimeLoop):
             A = sp.diags(c_m * system.mass + contact) + scale * system.stiffness
             self.inv = factorize(A)
             self.mass_op, self.stiffness_op = system.mass, bsr(system.stiffness)
-        # Z = A^-1 [P d_x]: the response to unit contact forces and to the drive.
-        loads = np.zeros((system.size, dofs.size + 1))
-        loads[dofs, np.arange(dofs.size)] = 1.0
-        loads[system.drive_index, dofs.size] = system.drive_x
+        # Z = A^-1 [P d_x]: the response to unit contact forces and to the drive
+        # (and d_y: a prescribed drive holds its attachment in Y too).
+        self.prescribed = scene.drive.mode == "velocity"
+        nc = dofs.size
+        loads = np.zeros((system.size, nc + (2 if self.prescribed else 1)))
+        loads[dofs, np.arange(nc)] = 1.0
+        loads[system.drive_index, nc] = system.drive_x
+        if self.prescribed:
+            loads[system.drive_index, nc + 1] = system.drive_y
         self.Z = np.empty_like(loads)
         for k in range(loads.shape[1]):
             solve(self.inv, loads[:, k], self.Z[:, k])
-        self.G = np.ascontiguousarray(self.Z[dofs, :-1])
+        self.G = np.ascontiguousarray(self.Z[dofs, :nc])
         self.G = 0.5 * (self.G + self.G.T)
-        self.h = np.ascontiguousarray(self.Z[dofs, -1])
-        self.e = float(system.drive_x @ self.Z[system.drive_index, -1])
+        self.h = np.ascontiguousarray(self.Z[dofs, nc])
+        self.e = float(system.drive_x @ self.Z[system.drive_index, nc])
+        self.h_y, self.e_xy, self.e_yy = np.zeros(nc), 0.0, 1.0
+        if self.prescribed:
+            self.h_y = np.ascontiguousarray(self.Z[dofs, nc + 1])
+            self.e_xy = float(system.drive_x @ self.Z[system.drive_index, nc + 1])
+            self.e_yy = float(system.drive_y @ self.Z[system.drive_index, nc + 1])
         self.Z = np.ascontiguousarray(self.Z)
         self.factor_time = time.perf_counter() - start
         self.contraction = self._contraction(held)
@@ -304,21 +318,21 @@ class ImplicitRun(TimeLoop):
 
         q, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
         u0c = model.u0.reshape(-1, 3)[model.contact_nodes].copy()
-        g_prev = np.zeros(nc + 1)   # g at the preload: q = 0, f_c = (0, 0, N0), F_d = 0
+        g_prev = np.zeros(nc + 2)   # g at the preload: q = 0, f_c = (0, 0, N0), F_d = 0
         g_prev[2:nc:3] = model.normal0
         sums = np.zeros(4)
         work = Work.allocate(n, contacts, self.substeps, law.law.state_size)
 
         others = np.setdiff1d(np.arange(n), system.contact_dofs.ravel())
         operators = Operators(self.mass_op, self.stiffness_op, self.inv, self.Z, self.G, self.h,
-                              self.e, system.contact_dofs, others, system.drive_index,
-                              system.drive_x, system.drive_y)
+                              self.e, self.h_y, self.e_xy, self.e_yy, system.contact_dofs, others,
+                              system.drive_index, system.drive_x, system.drive_y)
         nodes = ContactData(u0c, model.normal0, model.penalty_share, model.area_share,
                             self.tangent, self.assumed)
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
         scheme = Scheme(dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
                         ITERATION_TOLERANCE * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS)
-        drive = Drive(scene.drive.k_d, scene.drive.v_d)
+        drive = Drive(scene.drive.k_d, scene.drive.v_d, scene.drive.mode == "velocity")
         limits = Limits(c.F_N, scene.mu_max)
 
         def steps(first, last):
@@ -341,10 +355,13 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
                    recorder, steady, work):
     """Advance steps ``first`` .. ``last``. Returns (failed step, code, stop step):
     (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py)."""
-    (mass, stiffness, inv, Z, G, h, e, contact_dofs, others, drive_index, drive_x, drive_y) = operators
+    (mass, stiffness, inv, Z, G, h, e, h_y, e_xy, e_yy, contact_dofs, others, drive_index,
+     drive_x, drive_y) = operators
+    drives = Z.shape[1] - 3 * contact_dofs.shape[0]   # 1, or 2 for a drive held in Y
     u0c, normal0, penalty_share, area_share, tangent, assumed = contact
     amplitude, omega, t_on, cos_theta, sin_theta, eta_y = base
-    k_d, v_d = drive
+    k_d, v_d, prescribed = drive
+    spring = math.inf if prescribed else k_d   # the drive spring's stiffness (energy)
     dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, beta, tolerance, max_iterations = scheme
     stall_tolerance = tolerance * STALL_FACTOR
     F_N, mu_max = limits
@@ -362,6 +379,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
     xb, yb = scalars[XB], scalars[YB]
     sin_phase, cos_phase = scalars[SIN], scalars[COS]
     f_d_old = scalars[F_D]
+    f_hold_old = scalars[F_HOLD]
     cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
     stop = 0
     for i in range(first, last + 1):
@@ -384,6 +402,9 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             rhs[contact_dofs[c, 2]] += alpha_f * normal[c] - normal0[c]
         for k in range(drive_index.shape[0]):
             rhs[drive_index[k]] += alpha_f * drive_x[k] * f_d_old
+        if prescribed:
+            for k in range(drive_index.shape[0]):
+                rhs[drive_index[k]] += alpha_f * drive_y[k] * f_hold_old
         solve(inv, rhs, y)
 
         # Base at t_{n+1} (eqs 23-25).
@@ -404,9 +425,11 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         step = StepStart(q, v, vt, qt, base_dx, base_free)
 
         # The contact-space fixed point, from the last step's g.
-        y_a = 0.0
+        y_a = y_a_y = 0.0
         for k in range(drive_index.shape[0]):
             y_a += drive_x[k] * y[drive_index[k]]
+            y_a_y += drive_y[k] * y[drive_index[k]]
+        drive_now = (y_a_y, h_y, e_xy, e_yy)
         apply(G, g_prev[:nc], target)
         for p in range(nc):
             yc[p] = y[contact_dofs[p // 3, p % 3]]
@@ -422,9 +445,9 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         while iterations < max_iterations + FALLBACK_ITERATIONS:
             iterations += 1
             newton = iterations <= max_iterations
-            f_d, f_n, f_x, f_y, residual, x_a_new = _residual(
-                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive, scheme,
-                states, work)
+            f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = _residual(
+                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
+                drive_now, scheme, states, work)
             if residual < best:
                 best = residual
                 qc_best[:] = qc
@@ -458,9 +481,9 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             scalars[STALLED] += 1
             qc[:] = qc_best
             x_a = x_a_best
-            f_d, f_n, f_x, f_y, residual, x_a_new = _residual(
-                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive, scheme,
-                states, work)
+            f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = _residual(
+                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
+                drive_now, scheme, states, work)
         scalars[ITER_MAX] = max(scalars[ITER_MAX], iterations)
         scalars[ITER_SUM] += iterations
 
@@ -472,10 +495,11 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             q_new[contact_dofs[p // 3, p % 3]] = target[p]
         gw[nc] = f_d
         g_prev[nc] = f_d
+        gw[nc + 1] = g_prev[nc + 1] = f_hold
         for r in range(others.shape[0]):
             k = others[r]
             s = 0.0
-            for p in range(nc + 1):
+            for p in range(nc + drives):
                 s += Z[k, p] * gw[p]
             q_new[k] = y[k] + af1 * s
         if use_energy:
@@ -504,6 +528,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             friction[c, 1] = force_t[c, 1]
         xb, yb = xb_new, yb_new
         f_d_old = f_d
+        f_hold_old = f_hold
 
         magnitude = 0.0
         for c in range(states.shape[0]):
@@ -512,7 +537,8 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         for k in range(drive_index.shape[0]):
             x_out += drive_x[k] * q[drive_index[k]]
             y_out += drive_y[k] * q[drive_index[k]]
-        f_d = k_d * (v_d * t - x_out)  # eq 17
+        if not prescribed:
+            f_d = k_d * (v_d * t - x_out)  # eq 17; prescribed: the iteration's reaction
         code = finish_step(t, t_on, f_d, f_n, f_x, f_y, x_out, y_out, xb, yb, magnitude, F_N,
                            mu_max, scalars, row)
         if code != trouble.OK:
@@ -521,7 +547,8 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             apply(mass, v, r1)
             apply(stiffness, q, r2)
             kinetic, elastic = energy_stored(q, v, r1, r2, contact_dofs, u0c[:, 2], normal0,
-                                             penalty_share, area_share, params, states, f_d, k_d)
+                                             penalty_share, area_share, params, states, f_d,
+                                             spring)
             row[recording.W_DRIVE] = sums[energy.W_DRIVE]
             row[recording.W_BASE] = sums[energy.W_BASE]
             row[recording.E_KIN] = kinetic
@@ -535,4 +562,5 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
     scalars[XB], scalars[YB] = xb, yb
     scalars[SIN], scalars[COS] = sin_phase, cos_phase
     scalars[F_D] = f_d_old
+    scalars[F_HOLD] = f_hold_old
     return 0, trouble.OK, stop

@@ -130,7 +130,8 @@ def build_model(scene, comm) -> FEModel:
 
     omega_max = stability.max_frequency(
         disc.stiffness, disc.mass, contact_nodes, penalty_share, scene.law_bounds.max_stiffness * area_share,
-        drive_stiffness_action(scene.drive.k_d, attach_nodes, attach_weights, disc.dofs))
+        drive_stiffness_action(scene.drive.k_d if scene.drive.mode == "spring" else 0.0,
+                               attach_nodes, attach_weights, disc.dofs))
     beta = scene.fem.damping if scene.fem.damping > 0.0 else stability.default_damping(omega_max)
     dt_stable = stability.critical_step(omega_max, beta)
 
