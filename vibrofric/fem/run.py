@@ -4,6 +4,8 @@ import math
 import time
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..core.errors import NumericalError
 from ..core.series import (RecordPlan, TimeSeries, averaging_steps,
                                full_resolution_steps)
@@ -25,6 +27,29 @@ from .recording import extra_columns
 # block's contact modes ring for ~10 ms, up to 1.5% in the transverse case;
 # info reports that as F_n_*_after_t_on.)
 STEADY_NORMAL = 0.01
+
+# A larger swing is physics, and reported rather than refused, when it is the
+# block's forced response: at least FORCED_FRACTION of its power over the
+# window (whole cycles of f) at the harmonics of the vibration frequency.
+# Measured on the Fig 7 scene at 10 ms of vibration: with k_t x 100 (a contact
+# stiffer than the block's own shear stiffness, which rocks it) the sum swings
+# 53.8-56.1 N, 99.8% of it at harmonics, the same at dt = 1e-6 and 5e-7 s;
+# a front-face drive with mu = 0.3 bounces the block (41-71 N), 0.3% at
+# harmonics (explicit; reduced 1%): free motion on its contact, refused.
+FORCED_FRACTION = 0.95
+
+
+def forced_fraction(values, dt: float, f: float) -> float:
+    """The fraction of the variance of ``values`` (a whole number of cycles of f,
+    sampled every dt) at the harmonics k f, k >= 1."""
+    spectrum = np.abs(np.fft.rfft(values - values.mean())) ** 2
+    total = spectrum[1:].sum()
+    if total == 0.0:
+        return 1.0
+    cycles = values.size * dt * f                 # the window's length in cycles of f
+    bins = np.arange(spectrum.size)
+    harmonic = (bins > 0) & (np.abs(bins / cycles - np.round(bins / cycles)) < 0.5 / cycles)
+    return float(spectrum[harmonic].sum() / total)
 
 
 @dataclass
@@ -82,7 +107,9 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     (steady.py), F_n_static (N, the preload's reaction), F_n_min / F_n_max
     (every step), F_n_min_after_t_on / F_n_max_after_t_on (every step from
     vibration.t_on; None without vibration), F_n_min_window / F_n_max_window
-    (the averaging window), frames, vtk (the .pvd path or None), setup_time_s,
+    (the averaging window), F_n_forced_fraction (the share of the window's
+    swing at harmonics of f: a swing above STEADY_NORMAL is accepted as the
+    block rocking when this is at least FORCED_FRACTION), frames, vtk (the .pvd path or None), setup_time_s,
     loop_time_s, wall_time_s; and what the integrator's set-up reports
     (implicit.py ImplicitRun.info, reduction.py ReducedRun.info).
     """
@@ -111,11 +138,13 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     F_N = scene.contact.F_N
     window = series.extra["F_n"][-averaging_steps(scene):]
     low, high = float(window.min()), float(window.max())
-    if max(F_N - low, high - F_N) > STEADY_NORMAL * F_N:
+    forced = forced_fraction(window, scene.time.dt, scene.vibration.f)
+    if max(F_N - low, high - F_N) > STEADY_NORMAL * F_N and forced < FORCED_FRACTION:
         raise NumericalError(
             f"the summed normal force swung between {low:.4g} and {high:.4g} N (F_N = {F_N} N) "
-            f"over the averaging window: the block is ringing on its contact; raise "
-            f"fem.damping (now {model.beta:.3g} s) or lower time.dt")
+            f"over the averaging window, only {forced:.1%} of it at harmonics of the vibration: "
+            f"the block is ringing or bouncing on its contact, not rocking with the base; "
+            f"raise fem.damping (now {model.beta:.3g} s) or lower time.dt")
 
     disc = model.disc
     info = {
@@ -147,6 +176,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
         "F_n_max_after_t_on": run.stats["F_n_max_after_t_on"] if scene.vibrated else None,
         "F_n_min_window": low,
         "F_n_max_window": high,
+        "F_n_forced_fraction": forced,
         "frames": writer.frames if writer is not None else 0,
         "vtk": str(writer.path) if writer is not None else None,
         "setup_time_s": setup_time,

@@ -17,11 +17,21 @@ import math
 
 from numba import njit
 
-from .contract import FASTMATH
+from .contract import FASTMATH, Parameter
 
 PAPER = 0  # explicit Euler update, as the paper (eqs 18, 31)
 EXACT = 1  # the exact solution for a constant slip rate over the step
 UPDATES = ("paper", "exact")   # the choices of contact.update, in code order
+
+# The parameters both asperity laws take, in the order of their params array.
+PARAMETERS = {
+    "k_t": Parameter(80e6, "N/m", low=0.0, low_open=True,
+                     doc="tangential stiffness of the whole contact"),
+    "mu": Parameter(0.1, "", low=0.0, doc="Coulomb friction coefficient: F_c = mu F_N (eq 3)"),
+    "update": Parameter("exact", choices=UPDATES,
+                        doc="\"exact\" for a constant slip rate over the step, or the paper's "
+                            "explicit \"paper\" (eq 18)"),
+}
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")

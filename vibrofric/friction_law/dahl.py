@@ -10,16 +10,12 @@ direction of the two-phase update (asperity.py).
 
 from numba import njit
 
-from .asperity import EXACT, UPDATES, deformation, relax_length, trial  # noqa: F401 (deformation: contract)
+from . import asperity
+from .asperity import UPDATES, deformation, relax_length, trial  # noqa: F401 (deformation: contract)
 from .contract import FASTMATH, Bounds, Parameter
 
 PARAMETERS = {
-    "k_t": Parameter(80e6, "N/m", low=0.0, low_open=True,
-                     doc="tangential stiffness of the whole contact"),
-    "mu": Parameter(0.1, "", low=0.0, doc="Coulomb friction coefficient: F_c = mu F_N (eq 3)"),
-    "update": Parameter("exact", choices=UPDATES,
-                        doc="\"exact\" for a constant slip rate over the step, or the paper's "
-                            "explicit \"paper\" (eq 18)"),
+    **asperity.PARAMETERS,   # k_t, mu, update
     "dahl_exponent": Parameter(1.0, "", low=0.0, high=10.0,
                                doc="Dahl's shape exponent i (eq 2): 0 brittle, 1 the paper's, "
                                    "up to 2 ductile"),

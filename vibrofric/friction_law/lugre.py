@@ -13,16 +13,12 @@ import math
 
 from numba import njit
 
-from .asperity import EXACT, UPDATES, deformation, relax_length, trial  # noqa: F401 (deformation: contract)
+from . import asperity
+from .asperity import UPDATES, deformation, relax_length, trial  # noqa: F401 (deformation: contract)
 from .contract import FASTMATH, Bounds, Parameter
 
 PARAMETERS = {
-    "k_t": Parameter(80e6, "N/m", low=0.0, low_open=True,
-                     doc="tangential stiffness of the whole contact"),
-    "mu": Parameter(0.1, "", low=0.0, doc="Coulomb friction coefficient: F_c = mu F_N (eq 3)"),
-    "update": Parameter("exact", choices=UPDATES,
-                        doc="\"exact\" for a constant slip rate over the step, or the paper's "
-                            "explicit \"paper\""),
+    **asperity.PARAMETERS,   # k_t, mu, update
     "F_s": Parameter(None, "N", low=0.0, doc="stiction force of the whole contact; default mu F_N"),
     "v_s": Parameter(1e-3, "m/s", low=0.0, low_open=True, doc="Stribeck velocity"),
     "h_t": Parameter(0.0, "N s/m", low=0.0, doc="contact damping of the whole contact"),
