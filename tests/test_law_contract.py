@@ -37,25 +37,26 @@ if os.environ.get("VIBROFRIC_LAW"):
     LAWS["user"] = (str(Path(os.environ["VIBROFRIC_LAW"]).resolve()), {})
 
 
-def contact_law(name) -> ContactLaw:
+def given_values(name) -> dict:
+    """The law's parameters as the suite sets them: LAWS' values, k_t and mu where it has them."""
     path, values = LAWS[name]
-    law = load_law(path)
-    given = {key: value for key, value in {"k_t": K_T, "mu": 0.1, **values}.items()
-             if key in law.parameters}
-    return ContactLaw(law, law.values(given), F_N)
+    known = load_law(path).parameters
+    return {key: value for key, value in {"k_t": K_T, "mu": 0.1, **values}.items() if key in known}
+
+
+def contact_law(name) -> ContactLaw:
+    law = load_law(LAWS[name][0])
+    return ContactLaw(law, law.values(given_values(name)), F_N)
 
 
 def short_scene(name, *overrides, **contact):
     """The Fig 7 scene with the law (and ``contact`` values for it), 10 ms of vibration."""
-    path, values = LAWS[name]
     scene = scene_module.load(ROOT / "scenes" / "longitudinal.toml",
                               ["vibration.t_on=0.002", "time.T=0.012", "time.average_cycles=4",
                                "time.series_dt=1e-6", *overrides])
-    law = load_law(path)
-    given = {key: value for key, value in {"k_t": K_T, "mu": 0.1, **values}.items()
-             if key in law.parameters}
     raw = scene_module.to_dict(scene)
-    raw["contact"] = {"law": path, "F_N": F_N, "eta_y": 0.71, **given, **contact}
+    raw["contact"] = {"law": LAWS[name][0], "F_N": F_N, "eta_y": 0.71, **given_values(name),
+                      **contact}
     return scene_module.from_dict(raw)
 
 

@@ -18,6 +18,7 @@ import tomli_w
 
 from .core import errors
 from .friction_law import ContactLaw, LawError, ParameterError, load_law
+from .friction_law.contract import is_law_file
 from .meshes import level_counts
 
 
@@ -159,7 +160,8 @@ class Scene:
     def friction(self) -> ContactLaw:
         """The contact's friction law with its parameter values (friction_law.ContactLaw)."""
         c = self.contact
-        return ContactLaw(load_law(c.law), c.law_values, c.F_N)
+        law = load_law(c.law)
+        return ContactLaw(law, law.values(c.parameters), c.F_N)
 
     @property
     def law_bounds(self):
@@ -332,7 +334,7 @@ def _contact(values: dict) -> Contact:
 
 def _law_path(value, base: Path):
     """A law file named relative to ``base`` as an absolute path; other values as they are."""
-    if isinstance(value, str) and (value.endswith(".py") or "/" in value):
+    if is_law_file(value):
         path = Path(value).expanduser()
         return str(path if path.is_absolute() else (base / path).resolve())
     return value

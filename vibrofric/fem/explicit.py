@@ -70,6 +70,9 @@ def explicit_steps(first, last, dt,
     xb, yb = scalars[XB], scalars[YB]
     sin_phase, cos_phase = scalars[SIN], scalars[COS]
     cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
+    compliance = 0.0   # sum_a w_a^2 / m_a: the attachment's response to a prescribed drive's force
+    for a in range(attach_nodes.shape[0]):
+        compliance += attach_weights[a] ** 2 * inverse_mass[3 * attach_nodes[a]]
     stop = 0
     for i in range(first, last + 1):
         t = i * dt
@@ -98,9 +101,6 @@ def explicit_steps(first, last, dt,
             u[k] += dt * v[k]
         if prescribed:
             x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
-            compliance = 0.0
-            for a in range(attach_nodes.shape[0]):
-                compliance += attach_weights[a] ** 2 * inverse_mass[3 * attach_nodes[a]]
             f_d = (v_d * t - x_a) / (dt * dt * compliance)
             f_hold = -y_a / (dt * dt * compliance)   # held in Y (lumped mass: the same in X and Y)
             for a in range(attach_nodes.shape[0]):

@@ -9,6 +9,7 @@ import math
 from numba import njit
 
 from ..core.errors import NumericalError
+from ..core.friction import DIVERGED
 
 # Codes returned by the time loops, and what they mean.
 OK, NOT_FINITE, FRICTION_DIVERGED, NORMAL_BLOWUP, LIFT_OFF, NOT_CONVERGED = range(6)
@@ -16,7 +17,6 @@ OK, NOT_FINITE, FRICTION_DIVERGED, NORMAL_BLOWUP, LIFT_OFF, NOT_CONVERGED = rang
 # A summed friction force beyond DIVERGED times its Coulomb limit, or a summed
 # normal force beyond NORMAL_LIMIT times F_N, is numerical divergence, not physics
 # (a Dahl asperity never exceeds its sliding length; the normal load is F_N).
-DIVERGED = 3.0
 NORMAL_LIMIT = 10.0
 
 _WHAT = {

@@ -46,6 +46,7 @@ uses it (specialize.py); ``fingerprint`` names the compiled code by the law's
 source and the package's, so an edited law is never run from a stale cache.
 """
 
+import functools
 import hashlib
 import importlib
 import importlib.util
@@ -148,14 +149,15 @@ def _source_hash(paths, root: Path) -> str:
     return digest.hexdigest()
 
 
-_PACKAGE_HASH = []
-
-
+@functools.cache
 def package_hash() -> str:
     """A hash of the package's sources: any edit makes every law's compiled loops anew."""
-    if not _PACKAGE_HASH:
-        _PACKAGE_HASH.append(_source_hash(sorted(PACKAGE.rglob("*.py")), PACKAGE))
-    return _PACKAGE_HASH[0]
+    return _source_hash(sorted(PACKAGE.rglob("*.py")), PACKAGE)
+
+
+def is_law_file(name) -> bool:
+    """Whether ``contact.law`` names a file (a .py, or a path) rather than a built-in or module."""
+    return isinstance(name, str) and (name.endswith(".py") or "/" in name or "\\" in name)
 
 
 @dataclass(frozen=True, eq=False)
@@ -218,15 +220,13 @@ class FrictionLaw:
         return np.zeros((states.shape[0], 2))
 
 
-def _load_module(name: str, base: Path | None):
+def _load_module(name: str):
     """The law's module and its source file: a built-in name, a .py path or a module name."""
     if name in BUILT_IN:
         module = importlib.import_module(BUILT_IN[name])
         return module, Path(module.__file__)
-    if name.endswith(".py") or "/" in name or "\\" in name:
+    if is_law_file(name):
         path = Path(name)
-        if not path.is_absolute() and base is not None:
-            path = base / path
         if not path.is_file():
             raise LawError(f"no friction law file {path}")
         digest = hashlib.sha256(path.read_bytes()).hexdigest()[:12]
@@ -266,31 +266,29 @@ def _check_contract(module, where: str) -> None:
         raise LawError(f"{where}: ORDER must be a positive number")
 
 
-def _compiled(function, inline: bool):
+def _inlined(function):
+    """The law's function compiled to be inlined into the time loops that call it."""
     py_func = getattr(function, "py_func", function)
-    options = {"error_model": "numpy", "fastmath": FASTMATH}
-    if inline:
-        options["inline"] = "always"
-    return njit(**options)(py_func)
+    return njit(error_model="numpy", fastmath=FASTMATH, inline="always")(py_func)
 
 
 _LOADED = {}
 
 
-def load_law(name: str, base: Path | None = None) -> FrictionLaw:
-    """The friction law ``name`` (a built-in, a .py file relative to ``base``, or a module).
+def load_law(name: str) -> FrictionLaw:
+    """The friction law ``name``: a built-in, a .py file (relative to the current directory;
+    the scene resolves one named in a scene file), or an importable module.
 
     Raises LawError for a law that cannot be found or breaks the contract.
     """
-    module, source = _load_module(name, base)
+    module, source = _load_module(name)
     key = (module.__name__, source)
     if key not in _LOADED:
         _check_contract(module, str(source) if name not in BUILT_IN else name)
         law_file = source.resolve()
         digest = hashlib.sha256((package_hash() + _source_hash([law_file], law_file.parent)).encode())
         _LOADED[key] = FrictionLaw(name, module, digest.hexdigest()[:16],
-                                   _compiled(module.update, inline=True),
-                                   _compiled(module.stored_energy, inline=True))
+                                   _inlined(module.update), _inlined(module.stored_energy))
     return _LOADED[key]
 
 

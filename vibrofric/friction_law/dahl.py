@@ -11,7 +11,7 @@ direction of the two-phase update (asperity.py).
 from numba import njit
 
 from . import asperity
-from .asperity import UPDATES, deformation, relax_length, trial  # noqa: F401 (deformation: contract)
+from .asperity import UPDATES, relax_length, trial
 from .contract import FASTMATH, Bounds, Parameter
 
 PARAMETERS = {
@@ -20,6 +20,7 @@ PARAMETERS = {
                                doc="Dahl's shape exponent i (eq 2): 0 brittle, 1 the paper's, "
                                    "up to 2 ductile"),
 }
+deformation = asperity.deformation  # the contract's ParaView field: s e
 STATE_SIZE = 3                  # (s, e_x, e_y): the asperity's length and direction
 INITIAL_STATE = (0.0, 1.0, 0.0)  # at rest; before any motion the direction is X
 ORDER = 1                       # the two-phase split is first order in dt

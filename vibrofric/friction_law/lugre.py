@@ -14,7 +14,7 @@ import math
 from numba import njit
 
 from . import asperity
-from .asperity import UPDATES, deformation, relax_length, trial  # noqa: F401 (deformation: contract)
+from .asperity import UPDATES, relax_length, trial
 from .contract import FASTMATH, Bounds, Parameter
 
 PARAMETERS = {
@@ -24,6 +24,7 @@ PARAMETERS = {
     "h_t": Parameter(0.0, "N s/m", low=0.0, doc="contact damping of the whole contact"),
     "h_v": Parameter(0.0, "N s/m", low=0.0, doc="viscous damping of the whole contact"),
 }
+deformation = asperity.deformation  # the contract's ParaView field: s e
 STATE_SIZE = 3
 INITIAL_STATE = (0.0, 1.0, 0.0)
 ORDER = 1
