@@ -23,6 +23,7 @@ SMALL = bench.Plan(
     laws=(("Dahl, i = 2", "dahl", {"dahl_exponent": 2.0}),),
     law_dt=2e-6,
     law_fe=("reduced", "tiny", 1e-5),
+    breakdown_cases=(("explicit", "tiny", 2e-6), ("reduced", "tiny", 1e-5)),
 )
 
 
@@ -98,3 +99,17 @@ def test_a_law_row_is_against_its_own_reference(small):
     assert row.fe.vs_analytic == pytest.approx((row.fe.ratio - row.reference) / row.reference,
                                                rel=1e-12)
     assert "| Dahl, i = 2 |" in bench.markdown(small)
+
+
+def test_step_breakdown_parts_add_up_to_the_measured_step(small):
+    """Each integrator's parts (fem.step_breakdown) and "the rest" sum to the step the
+    run measured (to rounding), and the timed parts took time."""
+    for b in small["breakdowns"]:
+        assert sum(part.seconds for part in b.parts) == pytest.approx(b.step_s, rel=1e-12)
+        timed = b.parts[:-1]
+        assert all(part.seconds > 0.0 for part in timed)
+        assert b.parts[-1].name.startswith("rest")
+    explicit, reduced = small["breakdowns"]
+    assert [p.name for p in explicit.parts[:2]] == ["product with K", "DOF vectors"]
+    assert reduced.parts[0].name == "solve with A"
+    assert "| **whole step** |" in bench.markdown(small)

@@ -65,6 +65,7 @@ class Plan:
     laws: tuple = ()           # (label, law, parameters): a row per friction law (LAWS)
     law_dt: float = 1e-6       # the analytic stepper's step in the law rows
     law_fe: tuple = ()         # (integrator, mesh, dt) of the law rows' FE run; () for none
+    breakdown_cases: tuple = ()  # (integrator, mesh, dt): a step's parts against the roofline
 
 
 _MESH_STEPS = (("tiny", 2e-6), ("coarse", 1e-6), ("medium", 5e-7))  # explicit: below each stable step
@@ -86,6 +87,8 @@ QUICK = Plan(
                 ("reduced", "coarse", 1e-5, (0.02, 0.04, 0.08, 0.16))),
     laws=LAWS,
     law_fe=("reduced", "coarse", 1e-5),
+    breakdown_cases=(("explicit", "coarse", 1e-6), ("implicit", "coarse", 1e-5),
+                     ("reduced", "coarse", 1e-5)),
 )
 
 FULL = Plan(
@@ -103,6 +106,8 @@ FULL = Plan(
     time_cases=QUICK.time_cases[:1] + (("reduced", "coarse", 1e-5, (0.02, 0.04, 0.08, 0.16, 0.32)),),
     laws=LAWS,
     law_fe=("reduced", "coarse", 1e-5),
+    breakdown_cases=QUICK.breakdown_cases + (("explicit", "medium", 5e-7),
+                                             ("reduced", "medium", 1e-5)),
 )
 
 
@@ -117,6 +122,8 @@ class Measurement:
     setup_s: float = math.nan  # FE: the model, the factorization, the reduction
     error: float = math.nan    # |ratio - reference| / reference of the same model
     vs_analytic: float = math.nan  # (ratio - analytic reference) / analytic reference
+    steps: int = 0             # FE: steps run
+    iterations: float = 0.0    # FE implicit, reduced: mean contact iterations a step
 
 
 def base_scene(plan: Plan):
@@ -177,7 +184,37 @@ def measure_fe(scene, integrator: str, mesh: str, dt: float, values=None) -> Mea
     summary = summarize(result.series, case, wall)
     info = result.info
     return Measurement(f"FE {integrator}", f"{mesh}, dt = {dt:g}", info["dofs"], wall,
-                       summary["F_dv_over_F_d0"], info["loop_time_s"], info["setup_time_s"])
+                       summary["F_dv_over_F_d0"], info["loop_time_s"], info["setup_time_s"],
+                       steps=info["steps"], iterations=info.get("iterations_mean", 0.0))
+
+
+@dataclass
+class Breakdown:
+    """One integrator's step in parts (fem.step_breakdown), from a measured run."""
+
+    integrator: str
+    setting: str
+    step_s: float               # measured: the run's loop time over its steps
+    parts: list                 # step_breakdown.Part
+
+    @property
+    def bound(self) -> float:
+        return sum(part.bound for part in self.parts)
+
+
+def measure_breakdown(scene, integrator: str, mesh: str, dt: float) -> Breakdown:
+    """The step of a run of the bench's scene, in parts (fem.step_breakdown)."""
+    from mpi4py import MPI
+
+    from .fem import integrators
+    from .fem.model import build_model
+    from .fem.step_breakdown import breakdown
+
+    run = measure_fe(scene, integrator, mesh, dt)
+    case = scene.with_values({"fem.integrator": integrator, "fem.mesh": mesh, "time.dt": dt})
+    prepared = integrators.select(case)(case, build_model(case, MPI.COMM_SELF))
+    step_s = run.loop_s / run.steps
+    return Breakdown(integrator, run.setting, step_s, breakdown(prepared, step_s, run.iterations))
 
 
 def warm_up(scene, integrators) -> None:
@@ -241,12 +278,16 @@ def bench(plan: Plan, progress=print) -> dict:
                        [p.loop_s for p in points]))
     growth = [(axis, integrator, points, x, y, fitted_exponent(x, y))
               for axis, integrator, points, x, y in growth]
+    breakdowns = []
+    for case in plan.breakdown_cases:
+        progress(f"step breakdown: {case}")
+        breakdowns.append(measure_breakdown(scene, *case))
     laws = []
     for label, law, parameters in plan.laws:
         progress(f"friction law: {label}")
         laws.append(measure_law(scene, plan, label, law, parameters))
     return {"plan": plan, "analytic_reference": analytic_reference, "fe_reference": fe_reference,
-            "rows": rows, "growth": growth, "laws": laws}
+            "rows": rows, "growth": growth, "laws": laws, "breakdowns": breakdowns}
 
 
 def markdown(result: dict) -> str:
@@ -296,7 +337,39 @@ def markdown(result: dict) -> str:
                         else "- | - | -")
             lines.append(f"| {row.label} | {row.reference:.5f} | {row.analytic.wall_s:.3g} "
                          f"| {row.analytic.error:+.2e} | {fe_cells} |")
+    if result.get("breakdowns"):
+        lines += [""] + breakdown_markdown(result["breakdowns"])
     return "\n".join(lines) + "\n"
+
+
+def breakdown_markdown(breakdowns) -> list:
+    """The step breakdowns as Markdown lines: a table of parts, then each step's fraction."""
+    from . import machine
+
+    lines = [f"A step in parts, on {machine.cpu_name()} (one core): this machine's multiply-add "
+             f"rate {machine.multiply_add_rate() / 1e9:.1f} G/s (operands from L1) and bandwidth "
+             f"{machine.bandwidth(32_000) / 1e9:.0f} / {machine.bandwidth(400_000) / 1e9:.0f} / "
+             f"{machine.bandwidth(4_000_000) / 1e9:.0f} / {machine.bandwidth(256_000_000) / 1e9:.0f}"
+             " GB/s (32 KB / 400 KB / 4 MB / 256 MB working sets). Each part's bound is "
+             "max(bytes / bandwidth, multiply-adds / rate); the friction law and the rest have "
+             "none (fem/step_breakdown.py).",
+             "",
+             "| integrator | setting | part | us a step | multiply-adds | KB | bound us "
+             "| bound / time |",
+             "|---|---|---|---|---|---|---|---|"]
+    for b in breakdowns:
+        for part in b.parts:
+            bounded = part.bound > 0.0
+            lines.append(
+                f"| {b.integrator} | {b.setting} | {part.name} | {part.seconds * 1e6:.2f} "
+                f"| {f'{part.multiply_adds:,.0f}' if bounded else '-'} "
+                f"| {f'{part.nbytes / 1e3:,.0f}' if bounded else '-'} "
+                f"| {f'{part.bound * 1e6:.2f}' if bounded else '-'} "
+                f"| {f'{part.bound / part.seconds:.0%}' if bounded else '-'} |")
+        lines.append(f"| {b.integrator} | {b.setting} | **whole step** | "
+                     f"**{b.step_s * 1e6:.2f}** | | | {b.bound * 1e6:.2f} "
+                     f"| **{b.bound / b.step_s:.0%}** |")
+    return lines
 
 
 def plot(result: dict, path) -> None:
