@@ -1,11 +1,11 @@
-"""The roofline (vibrofric.machine) and the operation counts a step's parts are bounded by
+"""The roofline (vibrofric.core.machine) and the operation counts a step's parts are bounded by
 (fem.step_breakdown.operator_cost)."""
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from vibrofric import machine
+from vibrofric.core import machine
 
 
 def test_bound_is_the_slower_of_memory_and_arithmetic():

@@ -344,7 +344,7 @@ def markdown(result: dict) -> str:
 
 def breakdown_markdown(breakdowns) -> list:
     """The step breakdowns as Markdown lines: a table of parts, then each step's fraction."""
-    from . import machine
+    from .core import machine
 
     lines = [f"A step in parts, on {machine.cpu_name()} (one core): this machine's multiply-add "
              f"rate {machine.multiply_add_rate() / 1e9:.1f} G/s (operands from L1) and bandwidth "

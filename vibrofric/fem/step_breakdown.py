@@ -11,7 +11,7 @@ run's own operators, repeated in a compiled loop (best of several passes):
 
 Each part's roofline bound is max(bytes / bandwidth, multiply-adds / rate)
 with this machine's bandwidth at the part's working set and its multiply-add
-rate (vibrofric.machine). The friction law has no such bound: it is a chain of
+rate (vibrofric.core.machine). The friction law has no such bound: it is a chain of
 divisions, square roots and exponentials on a few dozen nodes, latency and
 not throughput; it is reported by its time. The rest of a step (drive, base,
 recording, checks, and for the implicit integrators the iteration's
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .. import machine
+from ..core import machine
 from ..friction_law.contract import FASTMATH
 from .contact import contact_forces
 from .explicit import central_difference, damped_displacement
