@@ -24,6 +24,7 @@ SMALL = bench.Plan(
     law_dt=2e-6,
     law_fe=("reduced", "tiny", 1e-5),
     breakdown_cases=(("explicit", "tiny", 2e-6), ("reduced", "tiny", 1e-5)),
+    mesh_study=("reduced", 1e-5, ("tiny", "2x2x2", "2x3x3")),
 )
 
 
@@ -113,3 +114,21 @@ def test_step_breakdown_parts_add_up_to_the_measured_step(small):
     assert [p.name for p in explicit.parts[:2]] == ["product with K", "DOF vectors"]
     assert reduced.parts[0].name == "solve with A"
     assert "| **whole step** |" in bench.markdown(small)
+
+
+def test_richardson_recovers_a_power_law_on_unequal_refinements():
+    """f = f0 + C h^p on element sizes that do not halve: f0 and p to the bisection's
+    precision (1e-9 relative is far above its 2^-100); differences of changing sign
+    (outside the asymptotic range) give nan rather than a number."""
+    h = [13e-3, 7.5e-3, 5e-3, 3.8e-3]
+    f0, p, uncertainty = bench.richardson(h, [0.14 + 5.0 * x ** 1.3 for x in h])
+    assert f0 == pytest.approx(0.14, rel=1e-9) and p == pytest.approx(1.3, rel=1e-9)
+    assert uncertainty == pytest.approx(1.25 * 5.0 * h[-1] ** 1.3, rel=1e-6)
+    assert all(math.isnan(v) for v in bench.richardson([4, 2, 1], [1.0, 1.2, 1.1]))
+
+
+def test_mesh_study_reports_each_level_against_the_extrapolation(small):
+    study = small["mesh"]
+    assert [run.setting.split(",")[0] for run in study.runs] == ["tiny", "2x2x2", "2x3x3"]
+    assert study.sizes[0] > study.sizes[1] > study.sizes[2]
+    assert "Mesh study" in bench.markdown(small)

@@ -66,9 +66,14 @@ class Plan:
     law_dt: float = 1e-6       # the analytic stepper's step in the law rows
     law_fe: tuple = ()         # (integrator, mesh, dt) of the law rows' FE run; () for none
     breakdown_cases: tuple = ()  # (integrator, mesh, dt): a step's parts against the roofline
+    mesh_study: tuple = ()     # (integrator, dt, (level, ...) coarse to fine): the spatial error
 
 
 _MESH_STEPS = (("tiny", 2e-6), ("coarse", 1e-6), ("medium", 5e-7))  # explicit: below each stable step
+
+# The mesh study's levels, coarse to fine: element edges ~13, 7.5, 5 and 3.8 mm on the
+# default block (FULL adds "fine", 1.9 mm).
+MESH_LEVELS = ("2x3x4", "coarse", "6x8x10", "medium")
 
 QUICK = Plan(
     T=0.3,
@@ -89,6 +94,7 @@ QUICK = Plan(
     law_fe=("reduced", "coarse", 1e-5),
     breakdown_cases=(("explicit", "coarse", 1e-6), ("implicit", "coarse", 1e-5),
                      ("reduced", "coarse", 1e-5)),
+    mesh_study=("reduced", 1e-5, MESH_LEVELS),
 )
 
 FULL = Plan(
@@ -108,6 +114,7 @@ FULL = Plan(
     law_fe=("reduced", "coarse", 1e-5),
     breakdown_cases=QUICK.breakdown_cases + (("explicit", "medium", 5e-7),
                                              ("reduced", "medium", 1e-5)),
+    mesh_study=("reduced", 1e-5, MESH_LEVELS + ("fine",)),
 )
 
 
@@ -202,6 +209,56 @@ class Breakdown:
         return sum(part.bound for part in self.parts)
 
 
+def element_size(level: str) -> float:
+    """m: the mean element edge of a mesh level on the bench's block, (volume / elements)^(1/3)."""
+    from .meshes import block
+
+    return (math.prod(block.DEFAULT_SIZE) / math.prod(block.level_counts(level))) ** (1.0 / 3.0)
+
+
+def richardson(h, values) -> tuple:
+    """(f_0, p, uncertainty): the mesh-converged value of f(h) = f_0 + C h^p from the last
+    three levels (h decreasing), its observed order p, and the uncertainty of f_0.
+
+    p solves (f_1 - f_2) / (f_2 - f_3) = (h_1^p - h_2^p) / (h_2^p - h_3^p) (bisection on
+    [0.1, 8]; nan if the differences change sign: not yet in the asymptotic range);
+    f_0 = f_3 - (f_2 - f_3) h_3^p / (h_2^p - h_3^p). The uncertainty is Roache's grid
+    convergence index on the finest level, 1.25 |f_3 - f_0|.
+    """
+    (h1, h2, h3), (f1, f2, f3) = h[-3:], values[-3:]
+    observed = (f1 - f2) / (f2 - f3) if f2 != f3 else math.nan
+    if not observed > 0.0:
+        return math.nan, math.nan, math.nan
+
+    def mismatch(p):
+        return (h1 ** p - h2 ** p) / (h2 ** p - h3 ** p) - observed
+
+    low, high = 0.1, 8.0
+    if mismatch(low) * mismatch(high) > 0.0:
+        return math.nan, math.nan, math.nan
+    for _ in range(100):
+        mid = 0.5 * (low + high)
+        low, high = (mid, high) if mismatch(low) * mismatch(mid) > 0.0 else (low, mid)
+    p = 0.5 * (low + high)
+    f0 = f3 - (f2 - f3) * h3 ** p / (h2 ** p - h3 ** p)
+    return f0, p, 1.25 * abs(f3 - f0)
+
+
+@dataclass
+class MeshStudy:
+    """F_dv/F_d0 on successively finer meshes, one integrator and step."""
+
+    integrator: str
+    dt: float
+    runs: list                  # Measurement per level, coarse to fine
+    sizes: list                 # element_size per level, m
+
+    @property
+    def converged(self) -> tuple:
+        """richardson() of the runs."""
+        return richardson(self.sizes, [run.ratio for run in self.runs])
+
+
 def measure_breakdown(scene, integrator: str, mesh: str, dt: float) -> Breakdown:
     """The step of a run of the bench's scene, in parts (fem.step_breakdown)."""
     from mpi4py import MPI
@@ -278,6 +335,13 @@ def bench(plan: Plan, progress=print) -> dict:
                        [p.loop_s for p in points]))
     growth = [(axis, integrator, points, x, y, fitted_exponent(x, y))
               for axis, integrator, points, x, y in growth]
+    mesh = None
+    if plan.mesh_study:
+        integrator, dt, levels = plan.mesh_study
+        progress(f"mesh study: {integrator}, dt = {dt:g}, {', '.join(levels)}")
+        mesh = MeshStudy(integrator, dt, [measure_fe(scene, integrator, level, dt)
+                                          for level in levels],
+                         [element_size(level) for level in levels])
     breakdowns = []
     for case in plan.breakdown_cases:
         progress(f"step breakdown: {case}")
@@ -287,7 +351,8 @@ def bench(plan: Plan, progress=print) -> dict:
         progress(f"friction law: {label}")
         laws.append(measure_law(scene, plan, label, law, parameters))
     return {"plan": plan, "analytic_reference": analytic_reference, "fe_reference": fe_reference,
-            "rows": rows, "growth": growth, "laws": laws, "breakdowns": breakdowns}
+            "rows": rows, "growth": growth, "laws": laws, "breakdowns": breakdowns,
+            "mesh": mesh}
 
 
 def markdown(result: dict) -> str:
@@ -337,9 +402,28 @@ def markdown(result: dict) -> str:
                         else "- | - | -")
             lines.append(f"| {row.label} | {row.reference:.5f} | {row.analytic.wall_s:.3g} "
                          f"| {row.analytic.error:+.2e} | {fe_cells} |")
+    if result.get("mesh"):
+        lines += [""] + mesh_markdown(result["mesh"])
     if result.get("breakdowns"):
         lines += [""] + breakdown_markdown(result["breakdowns"])
     return "\n".join(lines) + "\n"
+
+
+def mesh_markdown(study: MeshStudy) -> list:
+    """The mesh study as Markdown lines: each level against the mesh-converged value."""
+    f0, p, uncertainty = study.converged
+    lines = [f"Mesh study: FE {study.integrator} at dt = {study.dt:g} s on successively finer "
+             f"meshes. Richardson extrapolation of the last three: mesh-converged F_dv/F_d0 = "
+             f"{f0:.5f} +- {uncertainty:.1e}, observed order {p:.2f} in the element size.",
+             "",
+             "| mesh | element size mm | DOFs | set-up s | loop s | F_dv/F_d0 "
+             "| error vs mesh-converged |",
+             "|---|---|---|---|---|---|---|"]
+    for run, h in zip(study.runs, study.sizes):
+        level = run.setting.split(",")[0]
+        lines.append(f"| {level} | {h * 1e3:.2f} | {run.dofs} | {run.setup_s:.2g} "
+                     f"| {run.loop_s:.3g} | {run.ratio:.5f} | {relative(run.ratio, f0):+.2e} |")
+    return lines
 
 
 def breakdown_markdown(breakdowns) -> list:

@@ -172,7 +172,8 @@ def _dot(a, b):
     return s
 
 
-_ONE, _TWO = np.uint64(1), np.uint64(2)   # unsigned offsets keep the indices unsigned (bsr)
+# Unsigned offsets keep an unsigned index unsigned (bsr; numba would type index + 1 as signed).
+_ONE, _TWO, _THREE, _FOUR = np.uint64(1), np.uint64(2), np.uint64(3), np.uint64(4)
 
 
 @njit(cache=True, fastmath={"contract"})
@@ -198,22 +199,40 @@ def _bsr_apply(indptr, columns, data, x, out):
         out[row + 2] = a2
 
 
-@njit(cache=True, fastmath=LINEAR_FASTMATH)
+@njit(cache=True, fastmath={"contract"}, inline="always")
+def _row_dot(indptr, indices, data, z, i):
+    """sum_p data[p] z[indices[p]] over row i of a CSR matrix, in four running sums.
+
+    Four sums keep four multiply-adds in flight (one sum waits on each; measured
+    2.3x faster than one). Summing them in another order is left to no compiler
+    ("contract" only): with reordering allowed, LLVM vectorizes the row with
+    gather instructions, which Intel's Gather Data Sampling mitigation makes
+    several times slower.
+    """
+    s0 = s1 = s2 = s3 = 0.0
+    p, end = indptr[i], indptr[i + 1]
+    while p + _THREE < end:
+        s0 += data[p] * z[indices[p]]
+        s1 += data[p + _ONE] * z[indices[p + _ONE]]
+        s2 += data[p + _TWO] * z[indices[p + _TWO]]
+        s3 += data[p + _THREE] * z[indices[p + _THREE]]
+        p += _FOUR
+    while p < end:
+        s0 += data[p] * z[indices[p]]
+        p += _ONE
+    return (s0 + s1) + (s2 + s3)
+
+
+@njit(cache=True, fastmath={"contract"})
 def _lu_solve(lu, b, out):
     (lp, li, lx, up, ui, ux, dinv, perm_r, perm_c, z) = lu
     n = b.shape[0]
     for i in range(n):
         z[perm_r[i]] = b[i]
     for i in range(n):                      # L z = P_r b, unit diagonal
-        s = z[i]
-        for p in range(lp[i], lp[i + 1]):
-            s -= lx[p] * z[li[p]]
-        z[i] = s
+        z[i] -= _row_dot(lp, li, lx, z, i)
     for i in range(n - 1, -1, -1):          # U z = z
-        s = z[i]
-        for p in range(up[i], up[i + 1]):
-            s -= ux[p] * z[ui[p]]
-        z[i] = s * dinv[i]
+        z[i] = (z[i] - _row_dot(up, ui, ux, z, i)) * dinv[i]
     for i in range(n):
         out[i] = z[perm_c[i]]
 
