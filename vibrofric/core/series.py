@@ -70,6 +70,9 @@ class RecordPlan:
         return (self.full_from - 1) // self.stride + (self.steps - self.full_from + 1)
 
 
+NO_STEPS = RecordPlan(0, 1, 1)  # a run of no steps, keeping no rows
+
+
 def averaging_steps(scene) -> int:
     """Steps in the final window averaged into F_dv: whole cycles of n = 1/(f dt) steps (eq 41).
 
