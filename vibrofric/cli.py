@@ -6,7 +6,7 @@ import logging
 import sys
 from pathlib import Path
 
-from . import output, plots
+from . import output
 from . import scene as scene_module
 from .core.errors import NumericalError, Refusal
 from .output import OutputError
@@ -123,7 +123,7 @@ def _check_stepper(scene, stepper: str) -> None:
 
 
 def cmd_analytic(args) -> None:
-    from . import budget
+    from . import budget, plots
     from .analytic.run import run
 
     scene = scene_module.load(args.scene, args.overrides)
@@ -164,7 +164,7 @@ def _progress_bar(args, what: str, total: float):
 
 
 def cmd_run(args) -> None:
-    from . import budget
+    from . import budget, plots
     from .picture import block_picture
     from .runs import fe_beside_analytic
 
