@@ -53,6 +53,15 @@ def _scene_arguments(parser):
     parser.add_argument("--json", action="store_true", help="print one JSON document to stdout")
 
 
+def _series_argument(parser):
+    parser.add_argument("--full-series", action="store_true",
+                        help="write every kept row of the time series: every step of the last "
+                             "averaging windows, one every time.series_dt before (time.series_dt "
+                             "= time.dt: every step). Default: a row every 1/(8 f) (at least 8 "
+                             "a vibration cycle, rounded down to a multiple of time.series_dt) "
+                             "and every step of the last 4 cycles")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = Parser(
         prog="vibrofric",
@@ -64,9 +73,11 @@ def build_parser() -> argparse.ArgumentParser:
     analytic.add_argument("--stepper", choices=("coupled", "longitudinal"), default="coupled",
                           help="coupled two-phase model (default) or the 1D longitudinal model [23] "
                                "(Dahl, vibration along X: theta 0 or 180 deg)")
+    _series_argument(analytic)
 
     run = commands.add_parser("run", help="the FE simulation, and the analytic stepper on the same scene")
     _scene_arguments(run)
+    _series_argument(run)
 
     sweep = commands.add_parser(
         "sweep", help="a batch over a grid of scene values",
@@ -125,12 +136,15 @@ def _check_stepper(scene, stepper: str) -> None:
 def cmd_analytic(args) -> None:
     from . import budget, plots
     from .analytic.run import run
+    from .core.series import written
 
     scene = scene_module.load(args.scene, args.overrides)
     _check_stepper(scene, args.stepper)
     target, claim = _target(args, "analytic")
-    budget.check([scene], fe=False, out=target or Path("results"))
+    budget.check([scene], fe=False, out=target or Path("results"), full_series=args.full_series)
     series, summary = run(scene, args.stepper)
+    if not args.full_series:  # the summary is the whole series'; the file and plots need less
+        series = written(series, scene)
     target = target or output.default_dir(scene.name)
     with output.staged(target, "analytic", claimed=claim) as stage:
         output.write_scene(stage, scene)
@@ -170,12 +184,12 @@ def cmd_run(args) -> None:
 
     scene = scene_module.load(args.scene, args.overrides)
     target, claim = _target(args, "run")
-    budget.check([scene], fe=True, out=target or Path("results"))
+    budget.check([scene], fe=True, out=target or Path("results"), full_series=args.full_series)
     target = target or output.default_dir(scene.name)
     progress, bar = _progress_bar(args, "FE", scene.time.T)
     with output.staged(target, "run", claimed=claim) as stage:
         try:
-            done = fe_beside_analytic(scene, stage, progress=progress)
+            done = fe_beside_analytic(scene, stage, progress=progress, full_series=args.full_series)
         finally:
             bar.close()
         document = {**done.document, "out": str(target)}
