@@ -1,6 +1,8 @@
 """The ``vibrofric`` command (spec/interface.md)."""
 
 import argparse
+import atexit
+import gc
 import json
 import logging
 import sys
@@ -18,6 +20,12 @@ EXIT_NUMERICAL = 3
 EXIT_POINTS_FAILED = 4   # a sweep finished, but some of its points failed
 EXIT_INTERRUPTED = 130   # Ctrl-C or SIGTERM, as a shell reports SIGINT
 FAILURES_LISTED = 10     # failed points named on stderr; results.csv has them all
+
+# At exit, leave every object to the end of the process instead of to the cyclic
+# collector: with numba and matplotlib loaded, the interpreter's teardown would
+# traverse them all at every pass, ~0.3 s of a 1.5 s analytic run. Every exit
+# handler (files, loggers, pools) still runs.
+atexit.register(gc.freeze)
 
 
 class Parser(argparse.ArgumentParser):
