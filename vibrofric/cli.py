@@ -11,6 +11,7 @@ from pathlib import Path
 from . import output
 from . import scene as scene_module
 from .core.errors import NumericalError, Refusal
+from .core.series import PLOT_CYCLES, ROWS_PER_CYCLE
 from .output import OutputError
 from .parallel import interruptible
 from .scene import SceneError, refused
@@ -63,11 +64,11 @@ def _scene_arguments(parser):
 
 def _series_argument(parser):
     parser.add_argument("--full-series", action="store_true",
-                        help="write every kept row of the time series: every step of the last "
-                             "averaging windows, one every time.series_dt before (time.series_dt "
-                             "= time.dt: every step). Default: a row every 1/(8 f) (at least 8 "
-                             "a vibration cycle, rounded down to a multiple of time.series_dt) "
-                             "and every step of the last 4 cycles")
+                        help="write every kept row of the time series (every step of the last "
+                             "two averaging windows, one every time.series_dt before them; every "
+                             "step if time.series_dt = time.dt) instead of the default: a row "
+                             f"every 1/({ROWS_PER_CYCLE} f), rounded down to a multiple of "
+                             f"time.series_dt, and every step of the last {PLOT_CYCLES} cycles")
 
 
 def build_parser() -> argparse.ArgumentParser:
