@@ -11,7 +11,7 @@ from pathlib import Path
 from . import output
 from . import scene as scene_module
 from .core.errors import NumericalError, Refusal
-from .core.series import PLOT_CYCLES, ROWS_PER_CYCLE
+from .core.series import PLOT_CYCLES, ROWS_PER_CYCLE, written
 from .output import OutputError
 from .parallel import interruptible
 from .scene import SceneError, refused
@@ -145,7 +145,6 @@ def _check_stepper(scene, stepper: str) -> None:
 def cmd_analytic(args) -> None:
     from . import budget, plots
     from .analytic.run import run
-    from .core.series import written
 
     scene = scene_module.load(args.scene, args.overrides)
     _check_stepper(scene, args.stepper)
