@@ -1,5 +1,6 @@
 import pathlib
 
+import numpy as np
 import pytest
 
 try:  # before anything imports dolfinx: the PyPI wheel finds its libmpi through mpi4py
@@ -9,6 +10,7 @@ except ImportError:  # the analytic model alone needs no MPI
 
 from vibrofric import scene as scene_module
 from vibrofric.core.errors import Refusal
+from vibrofric.core.series import COLUMNS, PLOT_CYCLES, ROWS_PER_CYCLE, written_stride
 
 SCENES = pathlib.Path(__file__).resolve().parent.parent / "scenes"
 
@@ -41,3 +43,26 @@ def refused_key():
 def _at_repository_root(monkeypatch):
     """Tests name scenes as ``scenes/...``, as a user at the repository root would."""
     monkeypatch.chdir(SCENES.parent)
+
+
+@pytest.fixture(scope="session")
+def written_by_rule():
+    """Check that a written time series (CSV) holds the default rows for the
+    scene it was run with, core.series.written(): a row every written_stride
+    steps, every step of the last PLOT_CYCLES cycles, at least ROWS_PER_CYCLE
+    rows a vibration cycle. Returns the table read back."""
+    def check(path, scene) -> np.ndarray:
+        with open(path, newline="") as f:
+            header = f.readline()
+        assert header.split("\r\n")[0].split(",")[:len(COLUMNS)] == list(COLUMNS)
+        table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+        t, f = table[:, 0], scene.vibration.f
+        step = np.rint(t / scene.time.dt).astype(np.int64)
+        last = t >= t[-1] - PLOT_CYCLES / f * (1 + 1e-9)
+        stride = written_stride(scene)
+        assert step[0] == stride and np.all(np.diff(step[~last]) == stride)
+        assert np.all(np.diff(step[last]) == 1)
+        assert step[last][0] <= step[~last][-1] + stride
+        assert np.diff(t).max() <= 1.0 / (ROWS_PER_CYCLE * f) * (1 + 1e-9)
+        return table
+    return check

@@ -136,3 +136,21 @@ def test_paper_update_past_its_stable_step_is_refused(load_scene):
     with pytest.raises(NumericalError, match="2 s_c"):
         run_coupled(scene)
     assert np.isfinite(run_coupled(scene.with_values({"contact.update": "exact"})).F_d).all()
+
+
+def test_wall_time_is_the_stepping_alone(load_scene, monkeypatch):
+    """The compiled loop is loaded (numba's cache) before the clock starts."""
+    from vibrofric.analytic import run as run_module
+
+    scene = load_scene("longitudinal", time__T=0.2)
+    events = []
+    load, step = run_module.LOADERS["coupled"], run_module.STEPPERS["coupled"]
+    monkeypatch.setitem(run_module.LOADERS, "coupled",
+                        lambda s: (events.append("load"), load(s))[1])
+    monkeypatch.setitem(run_module.STEPPERS, "coupled",
+                        lambda s: (events.append("step"), step(s))[1])
+    clock = iter([10.0, 10.25])
+    monkeypatch.setattr(run_module, "perf_counter", lambda: (events.append("clock"), next(clock))[1])
+    series, summary = run(scene)
+    assert events == ["load", "clock", "step", "clock"]
+    assert summary["wall_time_s"] == 0.25 and series.t.size > 0

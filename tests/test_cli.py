@@ -6,6 +6,7 @@ import json
 import pytest
 
 from vibrofric.cli import EXIT_BAD_INPUT, EXIT_POINTS_FAILED, main
+from vibrofric.runs import analytic_scene
 
 SHORT = ["--set", "time.T=0.2"]
 SUMMARY_KEYS = {"F_dv_over_F_d0", "F_dv", "F_d0", "breakaway_time_s", "steps", "wall_time_s"}
@@ -82,7 +83,7 @@ def test_sweep_over_a_bad_base_scene_is_refused_before_any_work(tmp_path, capsys
     assert list(tmp_path.iterdir()) == []
 
 
-def test_run_fe_and_analytic_json_and_results(tmp_path, capsys):
+def test_run_fe_and_analytic_json_and_results(tmp_path, capsys, load_scene, written_by_rule):
     out = tmp_path / "fe"
     code = main(["run", "scenes/longitudinal.toml", "--set", "time.T=0.16", "--set", "fem.mesh=tiny",
                  "--set", "fem.output_every=5000", "--out", str(out), "--json"])
@@ -99,6 +100,9 @@ def test_run_fe_and_analytic_json_and_results(tmp_path, capsys):
             "paraview"} <= names
     frames = sorted((out / "paraview").glob("*.vtu"))
     assert (out / "paraview" / "block.pvd").exists() and len(frames) == 33  # steps 0, 5000, ..., 160000
+    scene = load_scene("longitudinal", time__T=0.16, fem__mesh="tiny", fem__output_every=5000)
+    assert written_by_rule(out / "timeseries.csv", scene).shape[1] == 9  # and F_n
+    written_by_rule(out / "analytic_timeseries.csv", analytic_scene(scene))
 
 
 def test_run_refuses_a_step_above_the_stable_limit(tmp_path, capsys):

@@ -320,3 +320,18 @@ def test_drive_force_plot_shows_the_whole_run(tmp_path):
     series = TimeSeries(*([t] + [[0.0, 1.0, 2.0]] * 7))
     figure = plots.drive_force_figure({"run": series}, scene)
     assert figure.axes[0].get_xlim()[1] >= 1.0
+
+
+def test_analytic_command_imports_nothing_of_the_fe_model(home):
+    """``vibrofric analytic`` loads the stepper and matplotlib, never the FE stack."""
+    run = subprocess.run(
+        [sys.executable, "-c",
+         "import sys; from vibrofric.cli import main; "
+         f"main(['analytic', {LONGITUDINAL!r}, '--set', 'time.T=0.2', '--out', 'A']); "
+         "print(' '.join(sorted(name.split('.')[0] for name in sys.modules)))"],
+        cwd=home, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    loaded = set(run.stdout.splitlines()[-1].split())
+    assert {"numba", "matplotlib"} <= loaded
+    assert loaded.isdisjoint({"dolfinx", "ufl", "basix", "ffcx", "petsc4py", "mpi4py", "gmsh",
+                              "meshio", "pyvista", "tqdm"})

@@ -9,8 +9,9 @@ estimate in the message. The estimates are rough upper bounds:
             writer), and for FE the block's model, FE_BYTES_PER_DOF a degree
             of freedom (K in three sparse formats, the mass, the preload and
             the reduction's coupling on the coarse to fine meshes)
-    disk    the CSV time series (CSV_BYTES_PER_VALUE a value) and for FE the
-            ParaView frames (VTK_BYTES_PER_NODE a node and frame)
+    disk    the CSV time series (CSV_BYTES_PER_VALUE a value; the rows
+            core.series.written() keeps, or all kept rows with --full-series) and
+            for FE the ParaView frames (VTK_BYTES_PER_NODE a node and frame)
     time    STEP_SECONDS a step, and FE_STEP_SECONDS_PER_DOF a degree of
             freedom and step: the explicit loop of the coarse mesh
 """
@@ -19,7 +20,7 @@ import os
 import shutil
 from pathlib import Path
 
-from .core.series import COLUMNS, RecordPlan, full_resolution_steps
+from .core.series import COLUMNS, RecordPlan, full_resolution_steps, written_rows
 from .meshes import level_counts
 from .output import existing_ancestor
 from .scene import SceneError
@@ -67,13 +68,14 @@ def fe_dofs(scene) -> int:
     return 3 * (nx + 1) * (ny + 1) * (nz + 1)
 
 
-def estimate(scene, fe: bool) -> dict:
+def estimate(scene, fe: bool, full_series: bool = False) -> dict:
     """Rough needs of one run of ``scene``: steps, rows, memory and disk bytes, seconds."""
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     columns = len(COLUMNS) + (1 if fe else 0)
     series_files = 2 if fe else 1  # an FE run writes the analytic series beside its own
     memory = 3 * plan.rows * columns * 8
-    disk = series_files * plan.rows * columns * CSV_BYTES_PER_VALUE
+    rows_written = plan.rows if full_series else written_rows(scene)
+    disk = series_files * rows_written * columns * CSV_BYTES_PER_VALUE
     seconds = scene.steps * STEP_SECONDS
     dofs = 0
     if fe:
@@ -87,11 +89,12 @@ def estimate(scene, fe: bool) -> dict:
             "memory": memory, "disk": disk, "seconds": seconds}
 
 
-def check(scenes, fe: bool, out: Path) -> None:
+def check(scenes, fe: bool, out: Path, full_series: bool = False) -> None:
     """Refuse, before any work, runs of ``scenes`` (one, or a sweep's points,
     run side by side on at most two processes) that cannot fit in this
-    machine's memory, in the free disk under ``out``, or in LONGEST_RUN_S."""
-    needs = [(scene, estimate(scene, fe)) for scene in scenes]
+    machine's memory, in the free disk under ``out``, or in LONGEST_RUN_S;
+    ``full_series``: the runs write every kept row of their time series."""
+    needs = [(scene, estimate(scene, fe, full_series)) for scene in scenes]
     if not needs:  # a sweep none of whose points makes a scene: nothing will run
         return
     scene, worst = max(needs, key=lambda pair: pair[1]["memory"])

@@ -10,6 +10,12 @@ from .analytic.closed_form import coulomb_ratio  # noqa: E402
 from .core.series import PLOT_CYCLES  # noqa: E402
 
 LIMIT_POINTS = 80  # on the rigid Coulomb limit's curve; each is a 16 ms quadrature
+# Every analytic run draws the two figures of a run, which would otherwise take
+# longer than its stepping: fixed margins instead of tight_layout (a second text
+# layout pass, ~50 ms a figure; these fit tick labels of up to five digits), and
+# PNG compressed at zlib level 1 (~20 ms less a figure, the file ~20% larger).
+RUN_MARGINS = {"left": 0.12, "right": 0.98, "bottom": 0.14, "top": 0.91}
+RUN_PNG = {"dpi": 120, "pil_kwargs": {"compress_level": 1}}
 
 
 def drive_force_figure(runs: dict, scene):
@@ -24,14 +30,14 @@ def drive_force_figure(runs: dict, scene):
            title=f"{scene.name}: $k_v$ = {scene.vibration.k_v:g}, "
                  rf"$\theta$ = {scene.vibration.theta_deg:g}°")
     ax.legend(fontsize=8)
-    fig.tight_layout()
+    fig.subplots_adjust(**RUN_MARGINS)
     return fig
 
 
 def drive_force_history(runs: dict, scene, path) -> None:
     """drive_force_figure() as PNG."""
     fig = drive_force_figure(runs, scene)
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, **RUN_PNG)
     plt.close(fig)
 
 
@@ -46,8 +52,8 @@ def friction_last_cycles(runs: dict, scene, path) -> None:
     ax.set(xlabel="time t (s)", ylabel="friction force (N)",
            title=f"friction over the last {PLOT_CYCLES} cycles")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.subplots_adjust(**RUN_MARGINS)
+    fig.savefig(path, **RUN_PNG)
     plt.close(fig)
 
 

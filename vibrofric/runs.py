@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from . import output
 from .core.errors import Refusal
 from .core.friction import slip_resolving_step
-from .core.series import TimeSeries
+from .core.series import TimeSeries, written
 from .scene import refused
 
 # The analytic stepper beside an FE run takes at most this step, whatever the
@@ -54,11 +54,14 @@ def relative_error(fe: float | None, analytic: float | None) -> float | None:
     return abs(fe - analytic) / analytic
 
 
-def fe_beside_analytic(scene, directory, comm=None, progress=None) -> FEBesideAnalytic:
+def fe_beside_analytic(scene, directory, comm=None, progress=None,
+                       full_series: bool = False) -> FEBesideAnalytic:
     """Run the scene's FE model (on ``comm``, default MPI.COMM_SELF) and the
     analytic stepper (at time.dt <= ANALYTIC_DT), and write into ``directory``: scene.toml, timeseries.csv
     (FE), analytic_timeseries.csv and, if fem.output_every > 0, paraview/.
     ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe).
+    The time series files hold the rows core.series.written() names, or with
+    ``full_series`` every kept row.
 
     Raises SceneError (the model's refusal, naming the key) or NumericalError, leaving whatever it wrote
     by then for the caller's output.staged() to drop.
@@ -71,7 +74,8 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None) -> FEBesideAn
         fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress)
     except Refusal as refusal:
         raise refused(refusal) from refusal
-    analytic_series, analytic = run(analytic_scene(scene))
+    beside = analytic_scene(scene)
+    analytic_series, analytic = run(beside)
     info = fe.info
     fe_summary = {**summarize(fe.series, scene, info["wall_time_s"]),
                   "dofs": info["dofs"], "contact_nodes": info["contact_nodes"],
@@ -82,6 +86,10 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None) -> FEBesideAn
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}
     fe_info = {**fe.info, "vtk": "paraview/block.pvd" if fe.info["frames"] else None}
     output.write_scene(directory, scene)
-    output.write_timeseries(directory, fe.series)
-    output.write_timeseries(directory, analytic_series, "analytic_timeseries.csv")
+    if full_series:
+        output.write_timeseries(directory, fe.series)
+        output.write_timeseries(directory, analytic_series, "analytic_timeseries.csv")
+    else:
+        output.write_timeseries(directory, written(fe.series, scene))
+        output.write_timeseries(directory, written(analytic_series, beside), "analytic_timeseries.csv")
     return FEBesideAnalytic(document, fe_info, fe, analytic_series)

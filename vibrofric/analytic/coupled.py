@@ -21,7 +21,7 @@ from numba import njit
 from ..core.base_motion import base_displacement, vibration_axis
 from ..core.errors import NumericalError
 from ..core.friction import divergence_force
-from ..core.series import RecordPlan, TimeSeries, full_resolution_steps
+from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolution_steps
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 
@@ -86,16 +86,28 @@ def check_finished(failed_step: int, scene) -> None:
                              f"(step {failed_step}, dt = {dt:g} s): {hint}")
 
 
-def run_coupled(scene) -> TimeSeries:
-    """Integrate the scene with the coupled two-phase stepper."""
-    plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
-    out = np.empty((plan.rows, 8))
+def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
+    """The coupled loop, compiled for the scene's law, over ``plan``'s steps into ``out``;
+    returns the failing step, or 0."""
     cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
     law = scene.friction
-    failed = coupled_loop.for_law(law.law)(
+    return coupled_loop.for_law(law.law)(
         scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.mode == "velocity",
         scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
         scene.contact.eta_y, scene.contact.F_N, law.law.initial_state(1)[0], law.params,
         scene.time.dt, plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
-    check_finished(failed, scene)
+
+
+def load_coupled(scene) -> None:
+    """Load the coupled loop compiled for the scene's law from numba's cache (compile it
+    on a first run): a run of no steps, with the argument types of a real one, so that
+    a timed run_coupled() is the stepping alone."""
+    _run_loop(scene, NO_STEPS, np.empty((0, len(COLUMNS))))
+
+
+def run_coupled(scene) -> TimeSeries:
+    """Integrate the scene with the coupled two-phase stepper."""
+    plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
+    out = np.empty((plan.rows, len(COLUMNS)))
+    check_finished(_run_loop(scene, plan, out), scene)
     return TimeSeries.from_table(out)

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..core.base_motion import base_displacement
 from ..core.friction import divergence_force
-from ..core.series import RecordPlan, TimeSeries, full_resolution_steps
+from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolution_steps
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from .coupled import _record, check_finished
@@ -46,15 +46,25 @@ def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, F_N, state, p
     return 0
 
 
-def run_longitudinal(scene) -> TimeSeries:
-    """Integrate the scene's X motion in 1D (its theta and eta_y are ignored)."""
-    plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
-    out = np.empty((plan.rows, 8))
+def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
+    """The 1D loop, compiled for the scene's law, over ``plan``'s steps into ``out``;
+    returns the failing step, or 0."""
     law = scene.friction
-    failed = longitudinal_loop.for_law(law.law)(
+    return longitudinal_loop.for_law(law.law)(
         scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.mode == "velocity",
         scene.u0, scene.omega, scene.vibration.t_on, scene.contact.F_N,
         law.law.initial_state(1)[0], law.params, scene.time.dt,
         plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
-    check_finished(failed, scene)
+
+
+def load_longitudinal(scene) -> None:
+    """Load the 1D loop compiled for the scene's law (see coupled.load_coupled)."""
+    _run_loop(scene, NO_STEPS, np.empty((0, len(COLUMNS))))
+
+
+def run_longitudinal(scene) -> TimeSeries:
+    """Integrate the scene's X motion in 1D (its theta and eta_y are ignored)."""
+    plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
+    out = np.empty((plan.rows, len(COLUMNS)))
+    check_finished(_run_loop(scene, plan, out), scene)
     return TimeSeries.from_table(out)

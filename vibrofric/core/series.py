@@ -1,9 +1,12 @@
-"""The time series every run writes, and which steps it keeps.
+"""The time series every run keeps, and what of it a run writes.
 
 A 1 s run at dt = 1e-6 has 10^6 steps; a run keeps every step of its last
 vibration cycles (for the cycle average, eqs 40-41, whether it has settled,
 and the Fig 8 / 11 plots)
-and, before them, one step every ``time.series_dt``.
+and, before them, one step every ``time.series_dt``; its summary comes from
+all of these. The file it writes (timeseries.csv) holds by default fewer rows,
+written(): at least ROWS_PER_CYCLE a vibration cycle, and every step of the
+last PLOT_CYCLES cycles; with --full-series every kept row.
 """
 
 from dataclasses import dataclass, field
@@ -12,6 +15,8 @@ import numpy as np
 
 COLUMNS = ("t", "F_d", "F_x", "F_y", "x", "y", "x_b", "y_b")
 PLOT_CYCLES = 4  # cycles shown at full resolution in the F_x, F_y plot
+ROWS_PER_CYCLE = 8  # at least this many rows a vibration cycle in the written series: the
+                    # friction force's waveform still shows (transverse F_x swings at 2f)
 
 
 @dataclass
@@ -45,10 +50,17 @@ class TimeSeries:
     def table(self) -> np.ndarray:
         return np.column_stack([getattr(self, c) for c in COLUMNS] + list(self.extra.values()))
 
+    def select(self, keep: np.ndarray) -> "TimeSeries":
+        """The rows ``keep`` (a boolean mask) selects."""
+        return TimeSeries.from_table(self.table()[keep], tuple(self.extra))
+
+    def within(self, duration: float) -> np.ndarray:
+        """Which rows lie within ``duration`` of the series' end (a boolean mask)."""
+        return self.t >= self.t[-1] - duration * (1 + 1e-9)
+
     def tail(self, duration: float) -> "TimeSeries":
         """The part of the series within ``duration`` of its end."""
-        keep = self.t >= self.t[-1] - duration * (1 + 1e-9)
-        return TimeSeries.from_table(self.table()[keep], tuple(self.extra))
+        return self.select(self.within(duration))
 
 
 @dataclass(frozen=True)
@@ -62,12 +74,45 @@ class RecordPlan:
     @classmethod
     def for_scene(cls, scene, full_steps: int) -> "RecordPlan":
         steps = scene.steps
-        stride = max(1, int(round(scene.time.series_dt / scene.time.dt)))
-        return cls(steps, stride, max(1, steps - full_steps + 1))
+        return cls(steps, recording_stride(scene), max(1, steps - full_steps + 1))
 
     @property
     def rows(self) -> int:
         return (self.full_from - 1) // self.stride + (self.steps - self.full_from + 1)
+
+
+NO_STEPS = RecordPlan(0, 1, 1)  # a run of no steps, keeping no rows
+
+
+def recording_stride(scene) -> int:
+    """Steps between the kept rows before the last cycles: one every time.series_dt."""
+    return max(1, int(round(scene.time.series_dt / scene.time.dt)))
+
+
+def written_stride(scene) -> int:
+    """Steps between the rows of the written series: 1 / (ROWS_PER_CYCLE f) rounded
+    down to a multiple of the recording's stride (so that every row it names was
+    kept, evenly spaced), and never below that stride."""
+    recorded = recording_stride(scene)
+    per_row = 1.0 / (ROWS_PER_CYCLE * scene.vibration.f * scene.time.dt)
+    return recorded * max(1, int(per_row / recorded + 1e-9))
+
+
+def written(series: TimeSeries, scene) -> TimeSeries:
+    """The rows a results directory's time series holds by default: one every
+    written_stride(scene) steps, and every kept row of the last PLOT_CYCLES
+    cycles, those the F_x, F_y plot draws. ``scene`` is the one the series was run
+    with (its time.dt numbers the steps)."""
+    step = np.rint(series.t / scene.time.dt).astype(np.int64)
+    keep = (step % written_stride(scene) == 0) | series.within(PLOT_CYCLES / scene.vibration.f)
+    return series.select(keep)
+
+
+def written_rows(scene) -> int:
+    """About how many rows written() keeps of a whole run of ``scene`` (budget.py)."""
+    plotted = int(round(PLOT_CYCLES / (scene.vibration.f * scene.time.dt))) + 1
+    kept = RecordPlan.for_scene(scene, full_resolution_steps(scene)).rows
+    return min(kept, scene.steps // written_stride(scene) + plotted)
 
 
 def averaging_steps(scene) -> int:
