@@ -11,7 +11,8 @@
 
 VENV    ?= .venv
 PY      := $(VENV)/bin/python
-DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-matplotlib python3-venv python3-dev libosmesa6
+DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-matplotlib python3-venv python3-dev libosmesa6 \
+           libopenblas0-pthread
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEMO_OUT ?= results/demo
 
@@ -66,8 +67,12 @@ define apt_install
 endef
 
 # Debian's packages: DOLFINx 0.5 and everything built against it (numpy,
-# numba, scipy, petsc4py, mpi4py) live under /usr/bin/python3.
-$(VENV)/.debs:
+# numba, scipy, petsc4py, mpi4py) live under /usr/bin/python3. Without
+# libopenblas0-pthread Debian's numpy and scipy run on the reference BLAS:
+# the reduced model's set-up on the fine mesh spent 30 s in one dense product
+# that OpenBLAS does in 0.5 s (it takes over libblas.so.3 by Debian's
+# alternatives; numpy itself is not replaced).
+$(VENV)/.debs: Makefile
 	$(call apt_install,$(DEBS))
 	/usr/bin/python3 -m venv --system-site-packages $(VENV)
 	touch $@

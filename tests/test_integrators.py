@@ -74,6 +74,29 @@ def test_products_and_solves_match_scipy():
                            rtol=1e-10, atol=1e-14)
 
 
+def test_nested_dissection_orders_a_grid_for_less_fill(comm):
+    """On the medium mesh's K (plus springs on every DOF): the order is a permutation,
+    the LU solves backward stably and like the minimum-degree one (1e-10: rounding
+    through the matrix's condition), in the numba solve too, and it fills less than
+    the minimum degree (1.9 M against 2.6 M entries)."""
+    from vibrofric.fem.linalg import dof_points, nested_dissection, symmetric_lu
+
+    model = fem_model.build_model(load(LONGITUDINAL, "fem.mesh=medium"), comm)
+    A = (model.stiffness + sp.diags(np.r_[np.full(model.dofs - 1, 1e7), 1e7])).tocsc()
+    points = dof_points(model.disc.coordinates)
+    order = nested_dissection(points)
+    assert np.array_equal(np.sort(order), np.arange(model.dofs))
+    b = np.random.default_rng(2).standard_normal(model.dofs)
+    ordered, plain = symmetric_lu(A, points), symmetric_lu(A)
+    x = ordered.solve(b)
+    assert np.abs(A @ x - b).max() < 1e-12 * abs(A).max() * np.abs(x).max()  # backward stable
+    assert np.allclose(x, plain.solve(b), rtol=1e-10, atol=1e-10 * np.abs(x).max())
+    out = np.empty(model.dofs)
+    solve(factorize(A, points), b, out)
+    assert np.allclose(out, x, rtol=1e-10, atol=1e-10 * np.abs(x).max())
+    assert ordered.L.nnz + ordered.U.nnz < 0.8 * (plain.L.nnz + plain.U.nnz)
+
+
 # --- recording and early steady state --------------------------------------------------------
 
 @pytest.mark.parametrize("last", [1000, 537, 80])

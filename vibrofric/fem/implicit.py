@@ -115,7 +115,7 @@ from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRA
                             _newton_correction, _residual, friction_substeps)
 from .energy import contact_step as energy_step, stored as energy_stored
 from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
-from .linalg import apply, bsr, factorize, inverse, solve
+from .linalg import apply, bsr, dof_points, factorize, inverse, solve
 from .recording import COS, SIN, XB, YB, finish_step, keep_step
 from .step_cost import step_cost
 from .time_loop import Started, TimeLoop
@@ -239,7 +239,7 @@ class ImplicitRun(TimeLoop):
             contact = np.zeros(system.size)
             contact[dofs] = (1.0 - alpha_f) * held
             A = sp.diags(c_m * system.mass + contact) + scale * system.stiffness
-            self.inv = factorize(A)
+            self.inv = factorize(A, dof_points(model.disc.coordinates))
             self.mass_op, self.stiffness_op = system.mass, bsr(system.stiffness)
         # Z = A^-1 [P d_x]: the response to unit contact forces and to the drive
         # (and d_y: a prescribed drive holds its attachment in Y too).

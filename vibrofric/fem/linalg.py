@@ -65,22 +65,83 @@ def _off_diagonal(matrix):
     return csr, diagonal
 
 
-def symmetric_lu(matrix):
-    """scipy's SuperLU of a symmetric (or complex-symmetric) sparse matrix.
+def nested_dissection(points, leaf: int = 48) -> np.ndarray:
+    """An elimination order for a matrix whose rows sit at ``points`` (n, 3) of a
+    structured hexahedral grid: order[k] is the row eliminated k-th.
 
-    The ordering is a minimum degree on A + A^T and the pivots stay on the
-    diagonal (symmetric mode): the matrices factorized here are symmetric
-    positive definite, or that plus a small complex or negative shift far
-    from singular, which needs no pivoting; it keeps the fill of a Cholesky
-    factor (on the medium mesh 2.4 M entries against COLAMD's 3.2 M).
+    The rows are split by the layer of grid points across the middle of their
+    longest extent; a layer separates the two sides (a first-order hexahedron
+    couples adjacent layers only), so each side is ordered first, recursively,
+    and the layer last. The factor's fill then grows as n^(4/3) rather than the
+    minimum degree's faster growth on a 3D mesh: on the fine mesh (31 k DOFs)
+    31.6 M entries in 14 s against 65.7 M in 75 s.
     """
+    grid = np.round(points / max(np.ptp(points, axis=0).max(), 1e-300), 9)  # layers: equal values
+    order = []
+
+    def split(rows):
+        p = grid[rows]
+        axis = int(np.argmax(np.ptp(p, axis=0))) if rows.size > leaf else 0
+        layers = np.unique(p[:, axis]) if rows.size > leaf else ()
+        if len(layers) < 3:
+            order.append(rows)
+            return
+        cut = layers[len(layers) // 2]
+        split(rows[p[:, axis] < cut])
+        split(rows[p[:, axis] > cut])
+        order.append(rows[p[:, axis] == cut])
+
+    split(np.arange(points.shape[0]))
+    return np.concatenate(order)
+
+
+class OrderedLU:
+    """SuperLU of A[order][:, order] (symmetric mode, no reordering of its own): A x = b
+    is solved as x[order] = LU^-1 b[order]."""
+
+    def __init__(self, matrix, order):
+        self.order = order
+        permuted = sp.csc_matrix(matrix)[order][:, order].tocsc()
+        self.lu = sla.splu(permuted, permc_spec="NATURAL", diag_pivot_thresh=0.0,
+                           options=dict(SymmetricMode=True))
+        # A = P^T B P (B the permuted matrix): B's row and column permutations in A's terms.
+        inverse_order = np.argsort(order)
+        self.L, self.U = self.lu.L, self.lu.U
+        self.perm_r = np.empty_like(self.lu.perm_r)
+        self.perm_r[order] = self.lu.perm_r
+        self.perm_c = self.lu.perm_c[inverse_order]
+
+    def solve(self, b):
+        x = np.empty_like(b, dtype=np.result_type(b, self.L.dtype))
+        x[self.order] = self.lu.solve(b[self.order])
+        return x
+
+
+def symmetric_lu(matrix, points=None):
+    """The LU of a symmetric (or complex-symmetric) sparse matrix, with ``.solve(b)``.
+
+    The pivots stay on the diagonal (symmetric mode): the matrices factorized
+    here are symmetric positive definite, or that plus a small complex or
+    negative shift far from singular, which needs no pivoting; it keeps the
+    fill of a Cholesky factor. The ordering: nested dissection of the rows'
+    ``points`` on the block's grid when given (OrderedLU), else scipy's minimum
+    degree on A + A^T (on the medium mesh 2.6 M entries against nested
+    dissection's 1.9 M and COLAMD's 3.2 M).
+    """
+    if points is not None:
+        return OrderedLU(matrix, nested_dissection(points))
     return sla.splu(sp.csc_matrix(matrix), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                     options=dict(SymmetricMode=True))
 
 
-def factorize(matrix) -> SparseLU:
+def dof_points(coordinates) -> np.ndarray:
+    """(3 nodes, 3): every DOF at its node's position (node d carries DOFs 3 d + c)."""
+    return np.repeat(coordinates, 3, axis=0)
+
+
+def factorize(matrix, points=None) -> SparseLU:
     """The symmetric LU of a sparse matrix (symmetric_lu), in the form ``solve`` takes."""
-    lu = symmetric_lu(matrix)
+    lu = symmetric_lu(matrix, points)
     lower, _ = _off_diagonal(lu.L)
     upper, diagonal = _off_diagonal(lu.U)
     if not np.all(np.isfinite(diagonal)) or np.any(diagonal == 0.0):

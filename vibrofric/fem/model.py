@@ -44,6 +44,7 @@ from .assembly import Discretization, assemble_block
 from .contact import default_penalty
 from .drive import attachment, drive_stiffness_action
 from .loads import normal_load, top_pressure
+from .linalg import dof_points
 from .preload import static_preload
 
 
@@ -126,7 +127,8 @@ def build_model(scene, comm) -> FEModel:
     attach_nodes, attach_weights = attachment(scene, disc.face_area)
 
     u0, normal0 = static_preload(disc.stiffness, load, contact_nodes, penalty_share, area_share,
-                                 scene.law_bounds.stiffness, scene.contact.F_N)
+                                 scene.law_bounds.stiffness, scene.contact.F_N,
+                                 dof_points(disc.coordinates))
 
     omega_max = stability.max_frequency(
         disc.stiffness, disc.mass, contact_nodes, penalty_share, scene.law_bounds.max_stiffness * area_share,
