@@ -87,12 +87,12 @@ def test_nested_dissection_orders_a_grid_for_less_fill(comm):
     order = nested_dissection(points)
     assert np.array_equal(np.sort(order), np.arange(model.dofs))
     b = np.random.default_rng(2).standard_normal(model.dofs)
-    ordered, plain = symmetric_lu(A, points), symmetric_lu(A)
+    ordered, plain = symmetric_lu(A, order), symmetric_lu(A)
     x = ordered.solve(b)
     assert np.abs(A @ x - b).max() < 1e-12 * abs(A).max() * np.abs(x).max()  # backward stable
     assert np.allclose(x, plain.solve(b), rtol=1e-10, atol=1e-10 * np.abs(x).max())
     out = np.empty(model.dofs)
-    solve(factorize(A, points), b, out)
+    solve(factorize(A, order), b, out)
     assert np.allclose(out, x, rtol=1e-10, atol=1e-10 * np.abs(x).max())
     assert ordered.L.nnz + ordered.U.nnz < 0.8 * (plain.L.nnz + plain.U.nnz)
 

@@ -151,8 +151,7 @@ def cmd_analytic(args) -> None:
     target, claim = _target(args, "analytic")
     budget.check([scene], fe=False, out=target or Path("results"), full_series=args.full_series)
     series, summary = run(scene, args.stepper)
-    if not args.full_series:  # the summary is the whole series'; the file and plots need less
-        series = written(series, scene)
+    series = written(series, scene, args.full_series)  # the summary is of every kept row
     target = target or output.default_dir(scene.name)
     with output.staged(target, "analytic", claimed=claim) as stage:
         output.write_scene(stage, scene)

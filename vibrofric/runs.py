@@ -86,10 +86,7 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}
     fe_info = {**fe.info, "vtk": "paraview/block.pvd" if fe.info["frames"] else None}
     output.write_scene(directory, scene)
-    if full_series:
-        output.write_timeseries(directory, fe.series)
-        output.write_timeseries(directory, analytic_series, "analytic_timeseries.csv")
-    else:
-        output.write_timeseries(directory, written(fe.series, scene))
-        output.write_timeseries(directory, written(analytic_series, beside), "analytic_timeseries.csv")
+    output.write_timeseries(directory, written(fe.series, scene, full_series))
+    output.write_timeseries(directory, written(analytic_series, beside, full_series),
+                            "analytic_timeseries.csv")
     return FEBesideAnalytic(document, fe_info, fe, analytic_series)

@@ -91,6 +91,11 @@ class Drive:
     attach: str = "contact-plane"          # "contact-plane" | "front-face" (FE only)
     mode: str = "spring"                   # "spring" | "velocity"
 
+    @property
+    def prescribed(self) -> bool:
+        """mode "velocity": the attachment moves at exactly v_d, no spring."""
+        return self.mode == "velocity"
+
 
 @dataclass(frozen=True)
 class Vibration:
@@ -211,7 +216,7 @@ class Scene:
         """
         if self.time.average_cycles:
             return self.time.average_cycles
-        if self.drive.mode == "velocity":
+        if self.drive.prescribed:
             return 10
         return max(1, round(self.drive_period * self.vibration.f))
 

@@ -92,7 +92,7 @@ def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
     cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
     law = scene.friction
     return coupled_loop.for_law(law.law)(
-        scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.mode == "velocity",
+        scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
         scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
         scene.contact.eta_y, scene.contact.F_N, law.law.initial_state(1)[0], law.params,
         scene.time.dt, plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)

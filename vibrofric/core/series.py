@@ -98,11 +98,13 @@ def written_stride(scene) -> int:
     return recorded * max(1, int(per_row / recorded + 1e-9))
 
 
-def written(series: TimeSeries, scene) -> TimeSeries:
+def written(series: TimeSeries, scene, full: bool = False) -> TimeSeries:
     """The rows a results directory's time series holds by default: one every
     written_stride(scene) steps, and every kept row of the last PLOT_CYCLES
-    cycles, those the F_x, F_y plot draws. ``scene`` is the one the series was run
-    with (its time.dt numbers the steps)."""
+    cycles, those the F_x, F_y plot draws; with ``full`` (--full-series) every kept
+    row. ``scene`` is the one the series was run with (its time.dt numbers the steps)."""
+    if full:
+        return series
     step = np.rint(series.t / scene.time.dt).astype(np.int64)
     keep = (step % written_stride(scene) == 0) | series.within(PLOT_CYCLES / scene.vibration.f)
     return series.select(keep)

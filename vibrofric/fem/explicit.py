@@ -213,7 +213,7 @@ class ExplicitRun(TimeLoop):
                 stiffness, model.inverse_mass, model.load, model.beta,
                 model.contact_nodes, model.penalty_share, model.area_share, law.params, c.eta_y,
                 model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
-                scene.drive.mode == "velocity",
+                scene.drive.prescribed,
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                 c.F_N, scene.mu_max,
                 model.u0, u, v, work, force_sum, disp, disp_new, vel_z,

@@ -115,7 +115,7 @@ from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRA
                             _newton_correction, _residual, friction_substeps)
 from .energy import contact_step as energy_step, stored as energy_stored
 from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
-from .linalg import apply, bsr, dof_points, factorize, inverse, solve
+from .linalg import apply, bsr, factorize, inverse, solve
 from .recording import COS, SIN, XB, YB, finish_step, keep_step
 from .step_cost import step_cost
 from .time_loop import Started, TimeLoop
@@ -239,11 +239,11 @@ class ImplicitRun(TimeLoop):
             contact = np.zeros(system.size)
             contact[dofs] = (1.0 - alpha_f) * held
             A = sp.diags(c_m * system.mass + contact) + scale * system.stiffness
-            self.inv = factorize(A, dof_points(model.disc.coordinates))
+            self.inv = factorize(A, model.elimination_order)
             self.mass_op, self.stiffness_op = system.mass, bsr(system.stiffness)
         # Z = A^-1 [P d_x]: the response to unit contact forces and to the drive
         # (and d_y: a prescribed drive holds its attachment in Y too).
-        self.prescribed = scene.drive.mode == "velocity"
+        self.prescribed = scene.drive.prescribed
         nc = dofs.size
         loads = np.zeros((system.size, nc + (2 if self.prescribed else 1)))
         loads[dofs, np.arange(nc)] = 1.0
@@ -332,7 +332,7 @@ class ImplicitRun(TimeLoop):
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
         scheme = Scheme(dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
                         ITERATION_TOLERANCE * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS)
-        drive = Drive(scene.drive.k_d, scene.drive.v_d, scene.drive.mode == "velocity")
+        drive = Drive(scene.drive.k_d, scene.drive.v_d, self.prescribed)
         limits = Limits(c.F_N, scene.mu_max)
 
         def steps(first, last):

@@ -117,19 +117,19 @@ class OrderedLU:
         return x
 
 
-def symmetric_lu(matrix, points=None):
+def symmetric_lu(matrix, order=None):
     """The LU of a symmetric (or complex-symmetric) sparse matrix, with ``.solve(b)``.
 
     The pivots stay on the diagonal (symmetric mode): the matrices factorized
     here are symmetric positive definite, or that plus a small complex or
     negative shift far from singular, which needs no pivoting; it keeps the
-    fill of a Cholesky factor. The ordering: nested dissection of the rows'
-    ``points`` on the block's grid when given (OrderedLU), else scipy's minimum
-    degree on A + A^T (on the medium mesh 2.6 M entries against nested
+    fill of a Cholesky factor. The ordering: ``order`` when given (OrderedLU;
+    nested_dissection of the rows' points on the block's grid), else scipy's
+    minimum degree on A + A^T (on the medium mesh 2.6 M entries against nested
     dissection's 1.9 M and COLAMD's 3.2 M).
     """
-    if points is not None:
-        return OrderedLU(matrix, nested_dissection(points))
+    if order is not None:
+        return OrderedLU(matrix, order)
     return sla.splu(sp.csc_matrix(matrix), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                     options=dict(SymmetricMode=True))
 
@@ -139,9 +139,9 @@ def dof_points(coordinates) -> np.ndarray:
     return np.repeat(coordinates, 3, axis=0)
 
 
-def factorize(matrix, points=None) -> SparseLU:
+def factorize(matrix, order=None) -> SparseLU:
     """The symmetric LU of a sparse matrix (symmetric_lu), in the form ``solve`` takes."""
-    lu = symmetric_lu(matrix, points)
+    lu = symmetric_lu(matrix, order)
     lower, _ = _off_diagonal(lu.L)
     upper, diagonal = _off_diagonal(lu.U)
     if not np.all(np.isfinite(diagonal)) or np.any(diagonal == 0.0):

@@ -44,7 +44,7 @@ from .assembly import Discretization, assemble_block
 from .contact import default_penalty
 from .drive import attachment, drive_stiffness_action
 from .loads import normal_load, top_pressure
-from .linalg import dof_points
+from .linalg import dof_points, nested_dissection
 from .preload import static_preload
 
 
@@ -65,6 +65,7 @@ class FEModel:
     attach_weights: np.ndarray
     u0: np.ndarray             # (dofs,) static preload displacement
     normal0: np.ndarray        # (n,) static normal forces, sum F_N
+    elimination_order: np.ndarray  # (dofs,) for the sparse LUs: nested dissection (linalg)
     omega_max: float           # rad/s
     beta: float                # s, Rayleigh stiffness-proportional damping
     dt_stable: float           # s
@@ -125,14 +126,15 @@ def build_model(scene, comm) -> FEModel:
     penalty_share = penalty * area_share
 
     attach_nodes, attach_weights = attachment(scene, disc.face_area)
+    elimination_order = nested_dissection(dof_points(disc.coordinates))
 
     u0, normal0 = static_preload(disc.stiffness, load, contact_nodes, penalty_share, area_share,
                                  scene.law_bounds.stiffness, scene.contact.F_N,
-                                 dof_points(disc.coordinates))
+                                 elimination_order)
 
     omega_max = stability.max_frequency(
         disc.stiffness, disc.mass, contact_nodes, penalty_share, scene.law_bounds.max_stiffness * area_share,
-        drive_stiffness_action(scene.drive.k_d if scene.drive.mode == "spring" else 0.0,
+        drive_stiffness_action(0.0 if scene.drive.prescribed else scene.drive.k_d,
                                attach_nodes, attach_weights, disc.dofs))
     beta = scene.fem.damping if scene.fem.damping > 0.0 else stability.default_damping(omega_max)
     dt_stable = stability.critical_step(omega_max, beta)
@@ -142,6 +144,7 @@ def build_model(scene, comm) -> FEModel:
                    contact_area=contact_area, area_share=area_share, penalty=penalty,
                    penalty_share=penalty_share, attach_nodes=attach_nodes,
                    attach_weights=attach_weights, u0=u0, normal0=normal0,
+                   elimination_order=elimination_order,
                    omega_max=omega_max, beta=beta, dt_stable=dt_stable)
 
 

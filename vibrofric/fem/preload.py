@@ -29,10 +29,10 @@ REGULARIZATION = 1e-9
 RELATIVE_TOLERANCE = 1e-8  # on sum N_i = F_N: a direct solve gives ~1e-12
 
 
-def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, points=None):
+def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, order=None):
     """Return (u0, normal): the static displacement (dofs,) and contact forces (n,).
 
-    ``points`` (dofs, 3), the DOFs' positions, order the factorization (linalg.symmetric_lu).
+    ``order``: the DOFs' elimination order for the factorization (linalg.symmetric_lu).
 
     Raises NormalLoadTooSmall if no node stays in contact.
     """
@@ -42,7 +42,7 @@ def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, 
         springs = np.zeros(dofs)
         springs[3 * nodes[active] + 2] = penalty_share[active]
         springs[3 * nodes] = springs[3 * nodes + 1] = REGULARIZATION * k_t * area_share
-        u0 = symmetric_lu(stiffness + sp.diags(springs), points).solve(load)
+        u0 = symmetric_lu(stiffness + sp.diags(springs), order).solve(load)
         gap = u0[3 * nodes + 2]
         lifted = active & (gap > 0.0)
         if not lifted.any():

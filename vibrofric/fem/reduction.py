@@ -64,7 +64,7 @@ import scipy.sparse.linalg as sla
 from ..core.errors import ReductionFailed
 from .generalized_alpha import LinearSystem
 from .implicit import ImplicitRun
-from .linalg import dof_points, symmetric_lu
+from .linalg import dof_points, nested_dissection, symmetric_lu
 
 # Harmonics of the excitation at which the compliance is compared, and the loss factor.
 HARMONICS = (1, 2, 3)
@@ -91,8 +91,7 @@ class Reduction:
         K_ii = K[interior][:, interior].tocsc()
         K_ib = K[interior][:, boundary]
         mass_i = model.disc.mass[interior]
-        points = dof_points(model.disc.coordinates)
-        lu = symmetric_lu(K_ii, points[interior])
+        lu = symmetric_lu(K_ii, nested_dissection(dof_points(model.disc.coordinates)[interior]))
         constraint = -lu.solve(K_ib.toarray())                  # Psi
         modes, omega = self._modes(K_ii, mass_i, lu, 2.0 * math.pi * cutoff_hz)
         drive = np.zeros(n)
@@ -197,12 +196,11 @@ def compliance_error(model, reduction: Reduction, scene) -> dict:
     reduced_springs = np.zeros(T.shape[1])
     reduced_springs[:b.size] = springs
     K_full = (model.stiffness + sp.diags(full_springs)).tocsc()
-    points = dof_points(model.disc.coordinates)
     K_red = reduction.stiffness + np.diag(reduced_springs)
 
     def full(omega):
         matrix = K_full * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * sp.diags(model.disc.mass)
-        return np.einsum("ij,ij->j", loads, symmetric_lu(matrix, points).solve(loads.astype(complex)))
+        return np.einsum("ij,ij->j", loads, symmetric_lu(matrix, model.elimination_order).solve(loads.astype(complex)))
 
     def reduced(omega):
         matrix = K_red * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * reduction.mass
