@@ -208,7 +208,67 @@ class Limits(NamedTuple):
     mu_max: float
 
 
+def system_matrix(system: LinearSystem, model, coefficients, held):
+    """A = c_M M + (1 - alpha_f) ((1 + beta c_V) K + P diag(l) P^T): dense for a
+    reduced system, scipy sparse for the full one."""
+    alpha_m, alpha_f, beta_n, gamma, c_m, c_v = coefficients
+    dofs = system.contact_dofs.ravel()
+    scale = (1.0 - alpha_f) * (1.0 + model.beta * c_v)
+    if system.dense:
+        A = c_m * system.mass + scale * system.stiffness
+        A[dofs, dofs] += (1.0 - alpha_f) * held
+        return A
+    contact = np.zeros(system.size)
+    contact[dofs] = (1.0 - alpha_f) * held
+    return sp.diags(c_m * system.mass + contact) + scale * system.stiffness
+
+
+def contraction(G, held, alpha_f: float, departure: float) -> float:
+    """The contact iteration's estimated contraction factor (the module docstring):
+    (1 - alpha_f) * departure * spectral radius of diag(l)^1/2 G diag(l)^1/2 over X, Y."""
+    planar = np.flatnonzero(np.tile([1.0, 1.0, 0.0], held.size // 3) * held)
+    if planar.size == 0:
+        return 0.0
+    root = np.sqrt(held[planar])
+    scaled = root[:, None] * G[np.ix_(planar, planar)] * root[None, :]
+    radius = np.abs(np.linalg.eigvalsh(0.5 * (scaled + scaled.T))).max()
+    return (1.0 - alpha_f) * departure * radius
+
+
+# A refused step is halved up to this many times looking for one the iteration takes.
+STEP_HALVINGS = 8
+
+
+def working_step(scene, model, system: LinearSystem):
+    """The largest time.dt / 2^k (k <= STEP_HALVINGS) whose estimated contraction is
+    within MAX_CONTRACTION, or None. A shorter step lets the mass c_M M outweigh
+    the contact in A, and G with it; the law's departure is taken at that step
+    (LuGre's grows as its dampings act over shorter steps)."""
+    dofs = system.contact_dofs.ravel()
+    assumed = np.repeat((model.normal0 > 0.0).astype(float), 3)
+    unit = np.zeros((system.size, dofs.size))
+    unit[dofs, np.arange(dofs.size)] = 1.0
+    for k in range(1, STEP_HALVINGS + 1):
+        trial = scene.with_values({"time.dt": scene.time.dt / 2 ** k})
+        scheme = coefficients(trial.fem.rho_infinity, trial.time.dt)
+        held = contact_tangent(model, trial, scheme[5]) * assumed
+        A = system_matrix(system, model, scheme, held)
+        if system.dense:
+            G = np.linalg.solve(A, unit)[dofs]
+        else:
+            inv = factorize(A, model.elimination_order)
+            G, column = np.empty((dofs.size, dofs.size)), np.empty(system.size)
+            for j in range(dofs.size):
+                solve(inv, unit[:, j], column)
+                G[:, j] = column[dofs]
+        if contraction(0.5 * (G + G.T), held, scheme[1],
+                       trial.law_bounds.departure) <= MAX_CONTRACTION:
+            return trial.time.dt
+    return None
+
+
 class ImplicitRun(TimeLoop):
+
     """An implicit run prepared for a scene: the factorization and the contact operator.
 
     Raises core.errors.Refusal for a scene it cannot run; ``info``
@@ -229,16 +289,11 @@ class ImplicitRun(TimeLoop):
         dofs = system.contact_dofs.ravel()
 
         start = time.perf_counter()
-        scale = (1.0 - alpha_f) * (1.0 + model.beta * c_v)
+        A = system_matrix(system, model, self.coefficients, held)
         if system.dense:
-            A = c_m * system.mass + scale * system.stiffness
-            A[dofs, dofs] += (1.0 - alpha_f) * held
             self.inv = inverse(A)
             self.mass_op, self.stiffness_op = system.mass, system.stiffness
         else:
-            contact = np.zeros(system.size)
-            contact[dofs] = (1.0 - alpha_f) * held
-            A = sp.diags(c_m * system.mass + contact) + scale * system.stiffness
             self.inv = factorize(A, model.elimination_order)
             self.mass_op, self.stiffness_op = system.mass, bsr(system.stiffness)
         # Z = A^-1 [P d_x]: the response to unit contact forces and to the drive
@@ -264,24 +319,17 @@ class ImplicitRun(TimeLoop):
             self.e_yy = float(system.drive_y @ self.Z[system.drive_index, nc + 1])
         self.Z = np.ascontiguousarray(self.Z)
         self.factor_time = time.perf_counter() - start
-        self.contraction = self._contraction(held)
+        self.contraction = contraction(self.G, held, alpha_f, scene.law_bounds.departure)
         if self.contraction > MAX_CONTRACTION:
+            working = working_step(scene, model, system)
+            advice = (f"use time.dt <= {working:.3g} s" if working is not None
+                      else "use a much smaller time.dt")
             raise StepTooLong(f"time step {t.dt:g} s is too long for the {name} integrator's "
-                                        f"contact iteration with this friction law (estimated "
-                              f"contraction {self.contraction:.2f} > {MAX_CONTRACTION}; "
-                              "LuGre's dampings h_t, h_v and a large F_s - F_c raise "
-                              "it): use a smaller time.dt")
-
-    def _contraction(self, held) -> float:
-        """(1 - alpha_f) * departure * spectral radius of diag(l)^1/2 G diag(l)^1/2 over X, Y."""
-        alpha_f = self.coefficients[1]
-        planar = np.flatnonzero(np.tile([1.0, 1.0, 0.0], self.model.contact_nodes.size) * held)
-        if planar.size == 0:
-            return 0.0
-        root = np.sqrt(held[planar])
-        scaled = root[:, None] * self.G[np.ix_(planar, planar)] * root[None, :]
-        radius = np.abs(np.linalg.eigvalsh(0.5 * (scaled + scaled.T))).max()
-        return (1.0 - alpha_f) * self.scene.law_bounds.departure * radius
+                              f"contact iteration (estimated contraction "
+                              f"{self.contraction:.2f} > {MAX_CONTRACTION}: the friction law "
+                              "departs from the tangent k_t w_i that the matrix holds, most "
+                              "for a contact as stiff as the block or for LuGre's dampings "
+                              "over a long step): " + advice)
 
     @property
     def cost_per_step(self) -> float:
