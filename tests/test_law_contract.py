@@ -168,7 +168,7 @@ def test_one_fe_contact_node_reproduces_the_lumped_forces(name, overrides, conta
         # k_pen w = 1 N/m, so u_z = -F_N gives N = F_N exactly
         total = node(old, new, np.zeros(1), lumped.x_b[i] - xb, lumped.y_b[i] - yb,
                      scene.contact.eta_y, np.ones(1), np.ones(1), 0.0, law.params,
-                     scene.time.dt, state, normal, force)
+                     scene.time.dt, math.inf, state, normal, force)
         assert total[0] == F_N
         fe[i] = total[1:]
         old, xb, yb = new, lumped.x_b[i], lumped.y_b[i]

@@ -14,7 +14,9 @@ With the lumped (diagonal) mass M, one step from t_n to t_{n+1} = t_n + dt is
 the step explicit; stable while dt <= dt_crit, stability.py). Then the base
 moves to its position at t_{n+1} (eqs 23-25), every contact node's normal force
 and asperity are updated from its displacement increment (contact.py, the
-VFRIC analogue), and F_d = k_d (v_d t_{n+1} - x_A,n+1) is recorded.
+VFRIC analogue), and F_d = k_d (v_d t_{n+1} - x_A,n+1) is recorded. A node
+that slides more than contact.SUBSTEP_ONSET sliding lengths in the step (a
+stiff contact) runs its friction law on sub-steps of the step's increments.
 
 This is the lumped stepper's order of operations (analytic/coupled.py, which
 writes the same scheme as semi-implicit Euler: v += dt a, x += dt v): drive
@@ -35,8 +37,9 @@ from ..core.base_motion import base_displacement, vibration_axis
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from ..core.errors import NoEnergyBalance
+from ..core.friction import SLIP_PER_STEP, slip_resolving_step
 from . import step_cost, trouble
-from .contact import contact_forces
+from .contact import SUBSTEP_ONSET, contact_forces
 from .drive import attachment_position
 from .linalg import apply, bsr
 from .model import check_step
@@ -62,7 +65,7 @@ def central_difference(u, v, force, inverse_mass, dt):
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def explicit_steps(first, last, dt,
                    stiffness, inverse_mass, load, beta,
-                   contact_nodes, penalty_share, area_share, params, eta_y,
+                   contact_nodes, penalty_share, area_share, params, eta_y, sliding_length,
                    attach_nodes, attach_weights, k_d, v_d, prescribed,
                    amplitude, omega, t_on, cos_theta, sin_theta,
                    F_N, mu_max,
@@ -137,7 +140,8 @@ def explicit_steps(first, last, dt,
             vel_z[c] = v[d + 2]
         f_n, f_x, f_y = contact_forces(
             disp, disp_new, vel_z, xb_new - xb, yb_new - yb, eta_y,
-            penalty_share, area_share, beta, params, dt, states, normal, friction)
+            penalty_share, area_share, beta, params, dt, sliding_length, states, normal,
+            friction)
         magnitude = 0.0
         for c in range(contacts):
             disp[c, 0] = disp_new[c, 0]
@@ -164,6 +168,23 @@ def explicit_steps(first, last, dt,
     return 0, trouble.OK, stop
 
 
+def substep_length(scene) -> float:
+    """The law's sliding length s_c (m) that contact_forces sub-steps on; infinite
+    (never sub-step) without friction."""
+    length = scene.law_bounds.sliding_length(scene.contact.F_N)
+    return length if length > 0.0 else math.inf
+
+
+def friction_substeps(scene) -> int:
+    """The most friction-law updates a step takes (contact.contact_forces): 1 up to
+    SUBSTEP_ONSET s_c of slip a step at the fastest sliding, v_a + v_d, else enough
+    for sub-steps of slip_resolving_step (SLIP_PER_STEP s_c)."""
+    per_resolving_step = scene.time.dt / slip_resolving_step(scene)
+    if per_resolving_step * SLIP_PER_STEP <= SUBSTEP_ONSET:
+        return 1
+    return math.ceil(per_resolving_step - 1e-9)
+
+
 class ExplicitRun(TimeLoop):
     """Central differences: the Abaqus/Explicit analogue, prepared for a scene.
 
@@ -178,14 +199,15 @@ class ExplicitRun(TimeLoop):
             raise NoEnergyBalance("the explicit integrator keeps no energy balance; "
                                            "use fem.integrator = \"implicit\" or \"reduced\"")
         self.scene, self.model = scene, model
-        self.info = {}
+        self.substeps = friction_substeps(scene)
+        self.info = {"friction_substeps": self.substeps}
 
     @property
     def cost_per_step(self) -> float:
         """ns a step, roughly (step_cost.COST): the product with K, the vectors, the friction law."""
         cost = step_cost.COST
         return (cost["sparse"] * self.model.stiffness.nnz + cost["vector"] * 4 * self.model.dofs
-                + cost["friction"] * self.model.contact_nodes.size)
+                + cost["friction"] * self.model.contact_nodes.size * self.substeps)
 
     @property
     def hint(self) -> str:
@@ -212,7 +234,8 @@ class ExplicitRun(TimeLoop):
                 first, last, dt,
                 stiffness, model.inverse_mass, model.load, model.beta,
                 model.contact_nodes, model.penalty_share, model.area_share, law.params, c.eta_y,
-                model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
+                substep_length(scene), model.attach_nodes, model.attach_weights, scene.drive.k_d,
+                scene.drive.v_d,
                 scene.drive.prescribed,
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                 c.F_N, scene.mu_max,

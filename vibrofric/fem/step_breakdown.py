@@ -32,7 +32,7 @@ from numba import njit
 from ..core import machine
 from ..friction_law.contract import FASTMATH
 from .contact import contact_forces
-from .explicit import central_difference, damped_displacement
+from .explicit import central_difference, damped_displacement, substep_length
 from .linalg import SparseLU, apply, bsr, solve
 
 
@@ -133,7 +133,8 @@ def explicit_parts(run) -> list:
     vel_z = np.zeros(contacts)
 
     arguments = (disp, moved, vel_z, 0.0, 0.0, scene.contact.eta_y, model.penalty_share,
-                 model.area_share, beta, law.params, dt, states, normal, friction)
+                 model.area_share, beta, law.params, dt,
+                 substep_length(scene), states, normal, friction)
     friction_part = Part(f"contact and friction law ({contacts} nodes)",
                          _seconds(lambda r: _contact_steps(kernel, arguments, r)), 0, 0)
     return [product, vectors, friction_part]
