@@ -33,3 +33,9 @@ def slip_resolving_step(scene) -> float:
         return math.inf
     sliding_length = scene.law_bounds.sliding_length(scene.contact.F_N)
     return SLIP_PER_STEP * sliding_length / (scene.v_a + scene.drive.v_d)
+
+
+def slip_per_step(scene) -> float:
+    """The slip of one time.dt at the fastest sliding, v_a + v_d, in sliding lengths
+    s_c (0 without friction): what a stiff contact raises."""
+    return SLIP_PER_STEP * scene.time.dt / slip_resolving_step(scene)

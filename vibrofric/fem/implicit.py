@@ -107,6 +107,7 @@ import scipy.sparse as sp
 
 from ..core.base_motion import base_displacement, vibration_axis
 from ..core.errors import StepTooLong
+from ..core.friction import slip_per_step
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from . import energy, recording, trouble
@@ -346,6 +347,7 @@ class ImplicitRun(TimeLoop):
                 "factor_entries": self.system.size ** 2 if self.system.dense else self.inv.entries,
                 "factor_time_s": self.factor_time,
                 "friction_substeps": self.substeps,
+                "slip_per_step": slip_per_step(self.scene),
                 "contraction_bound": self.contraction}
 
     @property

@@ -32,8 +32,10 @@ The integrators, all driving the same per-node friction law (contact.py):
     auto       the cheapest of those that meets fem.accuracy (choose() below)
 """
 
-from ..core.errors import Refusal
+from ..core.errors import Refusal, StepTooLong
+from ..core.friction import slip_per_step
 from . import step_cost
+from .contact_solve import TRUSTED_SLIP_PER_STEP
 from .explicit import ExplicitRun
 from .generalized_alpha import full_system
 from .implicit import ImplicitRun
@@ -55,18 +57,27 @@ def choose(scene, model):
     reduced   where its measured reduction error (reduction.py: the face's
               dynamic compliance against the full model's, taken as an F_dv
               error) is within fem.accuracy
-    implicit  the full model at any step; prepared (factorized) only when
-              neither of the others qualifies or its estimated cost
-              (step_cost.estimated_cost) is below theirs: it always costs more
-              than explicit at the same step, but less than a reduced model that
-              keeps hundreds of modes (an ultrasonic base)
+    implicit  the full model; prepared (factorized) only when neither of the
+              others qualifies or its estimated cost (step_cost.estimated_cost)
+              is below theirs: it always costs more than explicit at the same
+              step, but less than a reduced model that keeps hundreds of modes
+              (an ultrasonic base)
 
-    Time-step error is time.dt's, the same for all three. Returns the prepared
+    reduced and implicit only where a step slides at most
+    contact_solve.TRUSTED_SLIP_PER_STEP sliding lengths (a stiff contact
+    slides more: then explicit, whose step the mesh limits). Otherwise the
+    time-step error is time.dt's, the same for all three. Returns the prepared
     run, its ``choice`` saying what was picked and why.
     """
     accuracy = scene.fem.accuracy
     reasons, candidates = [], []
-    for name in ("explicit", "reduced"):
+    slip = slip_per_step(scene)
+    implicit_trusted = slip <= TRUSTED_SLIP_PER_STEP
+    if not implicit_trusted:
+        reasons.append(f"reduced and implicit: a step slides {slip:.3g} s_c > "
+                       f"{TRUSTED_SLIP_PER_STEP:g} (a stiff contact; time.dt <= "
+                       f"{scene.time.dt * TRUSTED_SLIP_PER_STEP / slip:.3g} s would do)")
+    for name in ("explicit", "reduced") if implicit_trusted else ("explicit",):
         try:
             run = INTEGRATORS[name](scene, model)
         except Refusal as error:
@@ -82,9 +93,12 @@ def choose(scene, model):
                            f"fem.accuracy {accuracy:g}")
         candidates.append(run)
     cheapest = min((run.cost_per_step for run in candidates), default=float("inf"))
-    if step_cost.estimated_cost(scene, model) < cheapest:
+    if implicit_trusted and step_cost.estimated_cost(scene, model) < cheapest:
         candidates.append(implicit_run(scene, model))
         reasons.append("implicit: the full model at any time.dt")
+    if not candidates:
+        raise StepTooLong(f"time step {scene.time.dt:g} s: no integrator meets fem.accuracy "
+                          f"{accuracy:g} at it: " + "; ".join(reasons))
     best = min(candidates, key=lambda run: run.cost_per_step)
     costs = ", ".join(f"{run.name} {run.cost_per_step / 1e3:.3g}" for run in candidates)
     best.choice = (f"{best.name}: the cheapest that meets fem.accuracy {accuracy:g} "
