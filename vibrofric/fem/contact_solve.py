@@ -18,6 +18,7 @@ from ..core.friction import slip_resolving_step
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from .contact import node_contact
+from .drive import prescribed_position
 from .linalg import apply
 
 # Convergence of the contact iteration: the change of every contact
@@ -241,7 +242,8 @@ def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params
     the x_A the fixed point maps x_a to).
 
     F_d is the drive spring's k_d (v_d t - x_a) (eq 17), F_hold = 0. A prescribed
-    drive (drive.mode = "velocity") puts its attachment at x_A = v_d t, y_A = 0:
+    drive (drive.mode = "velocity") puts its attachment at x_A = v_d t (after its start,
+    drive.prescribed_position), y_A = 0:
     (F_d, F_hold) are the reactions that do it, from
 
         x_A = y_A + (1 - af) (h^T g_c + e F_d + e_xy F_hold) = v_d t
@@ -260,7 +262,8 @@ def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params
         for p in range(qc.shape[0]):
             hg += h[p] * g[p]
             hyg += h_y[p] * g[p]
-        r_x = (drive.v_d * t - y_a) / af1 - hg
+        x_target = prescribed_position(t, drive.v_d)
+        r_x = (x_target - y_a) / af1 - hg
         r_y = -y_ay / af1 - hyg
         det = e * e_yy - e_xy * e_xy
         f_d = (e_yy * r_x - e_xy * r_y) / det
@@ -270,7 +273,7 @@ def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params
             target[p] = yc[p] + af1 * (target[p] + h[p] * f_d + h_y[p] * f_hold)
             rho[p] = qc[p] - target[p]
             residual = max(residual, abs(rho[p]))
-        return f_d, f_hold, f_n, f_x, f_y, residual, drive.v_d * t
+        return f_d, f_hold, f_n, f_x, f_y, residual, x_target
     hg = residual = 0.0
     for p in range(qc.shape[0]):
         target[p] = yc[p] + af1 * (target[p] + h[p] * f_d)

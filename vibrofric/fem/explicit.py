@@ -40,7 +40,7 @@ from ..core.errors import NoEnergyBalance
 from ..core.friction import SLIP_PER_STEP, slip_resolving_step
 from . import step_cost, trouble
 from .contact import SUBSTEP_ONSET, contact_forces
-from .drive import attachment_position
+from .drive import attachment_position, prescribed_position
 from .linalg import apply, bsr
 from .model import check_step
 from .recording import COS, SIN, XB, YB, finish_step, keep_step
@@ -76,9 +76,9 @@ def explicit_steps(first, last, dt,
 
     ``stiffness`` is K in block sparse rows of 3x3 node blocks (linalg.bsr).
     A ``prescribed`` drive (drive.mode = "velocity") replaces the spring by the
-    constraints x_A = v_d t, y_A = 0: their forces (on the nodes by their weights
+    constraints x_A = v_d t (drive.prescribed_position), y_A = 0: their forces (on the nodes by their weights
     w_a) are those that put the attachment there at the end of the step,
-    F_d = (v_d t - x_A*) / (dt^2 sum_a w_a^2 / m_a), x_A* the step without it
+    F_d = (x_A(t) - x_A*) / (dt^2 sum_a w_a^2 / m_a), x_A* the step without it
     (and in Y the same towards 0).
     All state lives in the arrays (u, v, disp, states, normal,
     friction, scalars, recorder, steady) so that a run can be resumed chunk by chunk.
@@ -116,7 +116,7 @@ def explicit_steps(first, last, dt,
         central_difference(u, v, force_sum, inverse_mass, dt)
         if prescribed:
             x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
-            f_d = (v_d * t - x_a) / (dt * dt * compliance)
+            f_d = (prescribed_position(t, v_d) - x_a) / (dt * dt * compliance)
             f_hold = -y_a / (dt * dt * compliance)   # held in Y (lumped mass: the same in X and Y)
             for a in range(attach_nodes.shape[0]):
                 d = 3 * attach_nodes[a]

@@ -114,6 +114,7 @@ from . import energy, recording, trouble
 from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRACTION,
                             MAX_ITERATIONS, MIN_STEP, STALL_FACTOR, ContactData, StepStart,
                             _newton_correction, _residual, friction_substeps)
+from .drive import prescribed_position
 from .energy import contact_step as energy_step, stored as energy_stored
 from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
 from .linalg import apply, bsr, factorize, inverse, solve
@@ -561,7 +562,10 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             for k in range(n):
                 rayleigh += x1[k] * r1[k]
             sums[energy.D_DAMP] += beta * rayleigh / dt
-            sums[energy.W_DRIVE] += (af1 * f_d + alpha_f * f_d_old) * v_d * dt
+            # the attachment's velocity over the step (v_d once started)
+            moved = (prescribed_position(t, v_d) - prescribed_position(t - dt, v_d)
+                     if prescribed else v_d * dt)
+            sums[energy.W_DRIVE] += (af1 * f_d + alpha_f * f_d_old) * moved
             energy_step(q, q_new, contact_dofs, penalty_share, area_share, params, states,
                         trial_state, friction, force_t, normal, normal_t, alpha_f, dx_b,
                         eta_y * dy_b, beta, dt, sums)
