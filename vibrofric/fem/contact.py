@@ -82,7 +82,8 @@ def normal_force(u_z, v_z, penalty_share, beta):
     closing = -u_z - beta * v_z
     if closing <= 0.0:
         return 0.0
-    return penalty_share * min(closing, -2.0 * u_z)  # (a NaN displacement gives NaN, caught by the loop)
+    # (a NaN displacement gives NaN, caught by the loop)
+    return penalty_share * min(closing, -2.0 * u_z)
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")

@@ -76,8 +76,9 @@ def explicit_steps(first, last, dt,
 
     ``stiffness`` is K in block sparse rows of 3x3 node blocks (linalg.bsr).
     A ``prescribed`` drive (drive.mode = "velocity") replaces the spring by the
-    constraints x_A = v_d t (drive.prescribed_position), y_A = 0: their forces (on the nodes by their weights
-    w_a) are those that put the attachment there at the end of the step,
+    constraints x_A = v_d t (drive.prescribed_position), y_A = 0: their forces (on
+    the nodes by their weights w_a) are those that put the attachment there at the
+    end of the step,
     F_d = (x_A(t) - x_A*) / (dt^2 sum_a w_a^2 / m_a), x_A* the step without it
     (and in Y the same towards 0).
     All state lives in the arrays (u, v, disp, states, normal,
