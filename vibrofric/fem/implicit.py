@@ -75,10 +75,12 @@ contracts by (1 - alpha_f) ||G diag(departure)||: below (1 - alpha_f) k_t w_i
 G_ii <= 1 - alpha_f ~ 1/2 node by node (G_ii <= 1 / l_i), and for the whole
 face together k_t / (k_t + c_M m) ~ 0.004 at dt = 1e-5 s (the rigid block's
 2 kHz mode on k_t, which explicit friction would have to resolve). Nothing is
-lagged: the step is implicit in the friction force too, so neither the
-penalty nor k_t limits dt, and no tuning is needed. ImplicitRun refuses
-(naming time.dt) a scene whose LuGre law departs so far from k_t (its
-dampings over a long step) that this bound exceeds MAX_CONTRACTION.
+lagged: the step is implicit in the friction force too, so the penalty does
+not limit dt, and no tuning is needed. The bound grows where the contact
+is as stiff as the block (G_ii l_i -> 1 on the face: 0.60 at k_t x 100 and
+1e-5 s) or LuGre's dampings act over a long step; ImplicitRun refuses a
+step whose bound exceeds MAX_CONTRACTION, naming the halved step
+(working_step) at which it does not.
 
 The parts: generalized_alpha.py (coefficients, the linear system, the
 contact tangent), contact_solve.py (the contact forces at a trial state and
