@@ -144,7 +144,10 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
             f"the summed normal force swung between {low:.4g} and {high:.4g} N (F_N = {F_N} N) "
             f"over the averaging window, only {forced:.1%} of it at harmonics of the vibration: "
             f"the block is ringing or bouncing on its contact, not rocking with the base; "
-            f"raise fem.damping (now {model.beta:.3g} s) or lower time.dt")
+            f"raise fem.damping (now {model.beta:.3g} s) or lower time.dt, or, if it rings "
+            f"the same at half the step (a stiff contact locks the block to the base and "
+            f"damps its free vibration slowly), start the vibration later (vibration.t_on) "
+            f"or average later (time.T)")
 
     disc = model.disc
     info = {
