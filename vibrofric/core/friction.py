@@ -22,17 +22,22 @@ def divergence_force(scene) -> float:
 SLIP_PER_STEP = 0.05
 
 
+def sliding_length(scene) -> float:
+    """The law's sliding length at the scene's normal load (Dahl: s_c = F_c / k_t), m;
+    infinite without friction (nothing to resolve)."""
+    if scene.F_c <= 0.0:
+        return math.inf
+    return scene.law_bounds.sliding_length(scene.contact.F_N)
+
+
 def slip_resolving_step(scene) -> float:
     """The step in which the fastest sliding, v_a + v_d, moves SLIP_PER_STEP of the law's
-    sliding length (Dahl: s_c = F_c / k_t).
+    sliding length.
 
     At it the two-phase split errs by ~0.4% of F_dv in the worst case above
     (~0.1% or less along the axes). Infinite without friction.
     """
-    if scene.F_c <= 0.0:
-        return math.inf
-    sliding_length = scene.law_bounds.sliding_length(scene.contact.F_N)
-    return SLIP_PER_STEP * sliding_length / (scene.v_a + scene.drive.v_d)
+    return SLIP_PER_STEP * sliding_length(scene) / (scene.v_a + scene.drive.v_d)
 
 
 def slip_per_step(scene) -> float:

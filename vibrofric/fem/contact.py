@@ -131,19 +131,16 @@ def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
     for i in range(states.shape[0]):
         slip_x, slip_y = disp_new[i, 0] - disp_old[i, 0], disp_new[i, 1] - disp_old[i, 1]
         slip = abs(slip_x - dx_b) + abs(slip_y) + abs(free_y)
-        if not slip > onset:     # (a NaN slip too: the loop catches it)
-            n_i, f_x, f_y = node_contact(
-                slip_x, slip_y, disp_new[i, 2], vel_z[i], dx_b, free_y, penalty_share[i],
-                area_share[i], beta, params, dt, states[i])
-        else:
+        substeps = 1             # (also for a NaN slip: the loop catches it)
+        if slip > onset:
             count = slip / resolving
             substeps = MAX_SUBSTEPS if count > MAX_SUBSTEPS else math.ceil(count)
-            slip_x, slip_y = slip_x / substeps, slip_y / substeps
-            for _ in range(substeps):
-                n_i, f_x, f_y = node_contact(
-                    slip_x, slip_y, disp_new[i, 2], vel_z[i], dx_b / substeps,
-                    free_y / substeps, penalty_share[i], area_share[i], beta, params,
-                    dt / substeps, states[i])
+        n_i = f_x = f_y = 0.0
+        for _ in range(substeps):   # (dividing by 1 is exact: one update as before)
+            n_i, f_x, f_y = node_contact(
+                slip_x / substeps, slip_y / substeps, disp_new[i, 2], vel_z[i],
+                dx_b / substeps, free_y / substeps, penalty_share[i], area_share[i], beta,
+                params, dt / substeps, states[i])
         normal[i] = n_i
         force[i, 0] = f_x
         force[i, 1] = f_y

@@ -56,7 +56,6 @@ def prescribed_position(t, v_d):
     return v_d * (t - 0.5 * START_TIME)
 
 
-
 def attachment(scene, face_area: dict):
     """(nodes, weights) of the drive's attachment: the face's nodes by area share."""
     area = face_area[ATTACH_FACES[scene.drive.attach]]

@@ -37,7 +37,7 @@ from ..core.base_motion import base_displacement, vibration_axis
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from ..core.errors import NoEnergyBalance
-from ..core.friction import SLIP_PER_STEP, slip_resolving_step
+from ..core.friction import SLIP_PER_STEP, slip_per_step, sliding_length
 from . import step_cost, trouble
 from .contact import SUBSTEP_ONSET, contact_forces
 from .drive import attachment_position, prescribed_position
@@ -169,21 +169,14 @@ def explicit_steps(first, last, dt,
     return 0, trouble.OK, stop
 
 
-def substep_length(scene) -> float:
-    """The law's sliding length s_c (m) that contact_forces sub-steps on; infinite
-    (never sub-step) without friction."""
-    length = scene.law_bounds.sliding_length(scene.contact.F_N)
-    return length if length > 0.0 else math.inf
-
-
 def friction_substeps(scene) -> int:
     """The most friction-law updates a step takes (contact.contact_forces): 1 up to
     SUBSTEP_ONSET s_c of slip a step at the fastest sliding, v_a + v_d, else enough
-    for sub-steps of slip_resolving_step (SLIP_PER_STEP s_c)."""
-    per_resolving_step = scene.time.dt / slip_resolving_step(scene)
-    if per_resolving_step * SLIP_PER_STEP <= SUBSTEP_ONSET:
+    for sub-steps of SLIP_PER_STEP s_c."""
+    slip = slip_per_step(scene)
+    if slip <= SUBSTEP_ONSET:
         return 1
-    return math.ceil(per_resolving_step - 1e-9)
+    return math.ceil(slip / SLIP_PER_STEP - 1e-9)
 
 
 class ExplicitRun(TimeLoop):
@@ -235,8 +228,8 @@ class ExplicitRun(TimeLoop):
                 first, last, dt,
                 stiffness, model.inverse_mass, model.load, model.beta,
                 model.contact_nodes, model.penalty_share, model.area_share, law.params, c.eta_y,
-                substep_length(scene), model.attach_nodes, model.attach_weights, scene.drive.k_d,
-                scene.drive.v_d,
+                sliding_length(scene),
+                model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
                 scene.drive.prescribed,
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                 c.F_N, scene.mu_max,

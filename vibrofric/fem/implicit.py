@@ -119,7 +119,7 @@ from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRA
 from .drive import prescribed_position
 from .energy import contact_step as energy_step, stored as energy_stored
 from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
-from .linalg import apply, bsr, factorize, inverse, solve
+from .linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
 from .recording import COS, SIN, XB, YB, finish_step, keep_step
 from .step_cost import step_cost
 from .time_loop import Started, TimeLoop
@@ -227,6 +227,12 @@ def system_matrix(system: LinearSystem, model, coefficients, held):
     return sp.diags(c_m * system.mass + contact) + scale * system.stiffness
 
 
+def factorized(system: LinearSystem, model, A):
+    """A's inverse as linalg.solve takes it: dense for a reduced system, the ordered
+    sparse LU for the full one."""
+    return inverse(A) if system.dense else factorize(A, model.elimination_order)
+
+
 def contraction(G, held, alpha_f: float, departure: float) -> float:
     """The contact iteration's estimated contraction factor (the module docstring):
     (1 - alpha_f) * departure * spectral radius of diag(l)^1/2 G diag(l)^1/2 over X, Y."""
@@ -250,29 +256,18 @@ def working_step(scene, model, system: LinearSystem):
     (LuGre's grows as its dampings act over shorter steps)."""
     dofs = system.contact_dofs.ravel()
     assumed = np.repeat((model.normal0 > 0.0).astype(float), 3)
-    unit = np.zeros((system.size, dofs.size))
-    unit[dofs, np.arange(dofs.size)] = 1.0
     for k in range(1, STEP_HALVINGS + 1):
         trial = scene.with_values({"time.dt": scene.time.dt / 2 ** k})
         scheme = coefficients(trial.fem.rho_infinity, trial.time.dt)
         held = contact_tangent(model, trial, scheme[5]) * assumed
-        A = system_matrix(system, model, scheme, held)
-        if system.dense:
-            G = np.linalg.solve(A, unit)[dofs]
-        else:
-            inv = factorize(A, model.elimination_order)
-            G, column = np.empty((dofs.size, dofs.size)), np.empty(system.size)
-            for j in range(dofs.size):
-                solve(inv, unit[:, j], column)
-                G[:, j] = column[dofs]
-        if contraction(0.5 * (G + G.T), held, scheme[1],
-                       trial.law_bounds.departure) <= MAX_CONTRACTION:
+        G = columns_of_inverse(factorized(system, model, system_matrix(system, model, scheme,
+                                                                       held)), dofs)
+        if contraction(G, held, scheme[1], trial.law_bounds.departure) <= MAX_CONTRACTION:
             return trial.time.dt
     return None
 
 
 class ImplicitRun(TimeLoop):
-
     """An implicit run prepared for a scene: the factorization and the contact operator.
 
     Raises core.errors.Refusal for a scene it cannot run; ``info``
@@ -293,13 +288,10 @@ class ImplicitRun(TimeLoop):
         dofs = system.contact_dofs.ravel()
 
         start = time.perf_counter()
-        A = system_matrix(system, model, self.coefficients, held)
-        if system.dense:
-            self.inv = inverse(A)
-            self.mass_op, self.stiffness_op = system.mass, system.stiffness
-        else:
-            self.inv = factorize(A, model.elimination_order)
-            self.mass_op, self.stiffness_op = system.mass, bsr(system.stiffness)
+        self.inv = factorized(system, model, system_matrix(system, model, self.coefficients,
+                                                           held))
+        self.mass_op = system.mass
+        self.stiffness_op = system.stiffness if system.dense else bsr(system.stiffness)
         # Z = A^-1 [P d_x]: the response to unit contact forces and to the drive
         # (and d_y: a prescribed drive holds its attachment in Y too).
         self.prescribed = scene.drive.prescribed

@@ -33,8 +33,8 @@ face's dynamic compliance of the reduced and the full model, on the
 linearized contact (k_t w_i in X, Y; k_pen w_i in Z), for uniform tractions
 in X and Y and the drive's load, at the harmonics h f of the excitation
 that the friction force carries (compared_harmonics: 3, or up to 8 on a
-fast-sliding or stiff contact), with a 5% loss factor (the friction's hysteresis) so that a
-resonance does not make the comparison singular:
+fast-sliding or stiff contact), with a 5% loss factor (the friction's
+hysteresis) so that a resonance does not make the comparison singular:
 
     e = max_{p, h} |c_red(h w) - c_full(h w)| / |c(0)|,   c = p^T (K + L - w^2 M)^-1 p
 
@@ -50,8 +50,8 @@ and 12.7 kHz).
 
 Cost. The set-up factorizes K_ii, solves it for every boundary DOF (3 per
 contact node), forms T^T M T and T^T K T (dense, dofs x size^2) and, for the
-error, factorizes the full complex matrix at each compared harmonic; a step costs
-~3 size^2 multiply-adds. ``vibrofric bench`` reports both per mesh level.
+error, factorizes the full complex matrix at each compared harmonic; a step
+costs ~3 size^2 multiply-adds. ``vibrofric bench`` reports both per mesh level.
 """
 
 import math
@@ -63,6 +63,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from ..core.errors import ReductionFailed
+from ..core.friction import sliding_length
 from .generalized_alpha import LinearSystem
 from .implicit import ImplicitRun
 from .linalg import dof_points, nested_dissection, symmetric_lu
@@ -198,11 +199,10 @@ def compared_harmonics(scene) -> range:
     0.2%, 0.4%). Up to 8 f the paper's scenes' estimates stay within 1%:
     0.8% (Fig 7, at 3 f) and 0.63% (k_v = 20, at 6 f).
     """
-    if scene.F_c <= 0.0:
-        return range(1, HARMONICS + 1)
-    sliding_length = scene.law_bounds.sliding_length(scene.contact.F_N)
-    reach = (scene.v_a + scene.drive.v_d) / (2.0 * math.pi * sliding_length)
-    return range(1, min(MAX_HARMONICS, max(HARMONICS, math.ceil(reach / scene.vibration.f))) + 1)
+    # (no friction: an infinite sliding length, reach 0, the first HARMONICS)
+    reach = (scene.v_a + scene.drive.v_d) / (2.0 * math.pi * sliding_length(scene))
+    last = min(MAX_HARMONICS, max(HARMONICS, math.ceil(reach / scene.vibration.f)))
+    return range(1, last + 1)
 
 
 def compliance_error(model, reduction: Reduction, scene) -> dict:
@@ -224,7 +224,8 @@ def compliance_error(model, reduction: Reduction, scene) -> dict:
 
     def full(omega):
         matrix = K_full * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * sp.diags(model.disc.mass)
-        return np.einsum("ij,ij->j", loads, symmetric_lu(matrix, model.elimination_order).solve(loads.astype(complex)))
+        lu = symmetric_lu(matrix, model.elimination_order)
+        return np.einsum("ij,ij->j", loads, lu.solve(loads.astype(complex)))
 
     def reduced(omega):
         matrix = K_red * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * reduction.mass

@@ -30,9 +30,10 @@ import numpy as np
 from numba import njit
 
 from ..core import machine
+from ..core.friction import sliding_length
 from ..friction_law.contract import FASTMATH
 from .contact import contact_forces
-from .explicit import central_difference, damped_displacement, substep_length
+from .explicit import central_difference, damped_displacement
 from .linalg import SparseLU, apply, bsr, solve
 
 
@@ -134,7 +135,7 @@ def explicit_parts(run) -> list:
 
     arguments = (disp, moved, vel_z, 0.0, 0.0, scene.contact.eta_y, model.penalty_share,
                  model.area_share, beta, law.params, dt,
-                 substep_length(scene), states, normal, friction)
+                 sliding_length(scene), states, normal, friction)
     friction_part = Part(f"contact and friction law ({contacts} nodes)",
                          _seconds(lambda r: _contact_steps(kernel, arguments, r)), 0, 0)
     return [product, vectors, friction_part]
