@@ -81,7 +81,10 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
                   "dofs": info["dofs"], "contact_nodes": info["contact_nodes"],
                   "integrator": info["integrator"], "integrator_choice": info["integrator_choice"],
                   "steps": info["steps"], "stopped_early": info["stopped_early"],
-                  "stop_time_s": info["stop_time_s"], "saving": info["saving"]}
+                  "stop_time_s": info["stop_time_s"], "saving": info["saving"],
+                  "normal_force": info["F_n_kind"]}
+    if info["F_n_kind"] == "transient":     # its average holds part of it (fem/normal_swing.py)
+        fe_summary["settled"] = False
     document = {"fe": fe_summary, "analytic": analytic,
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}
     fe_info = {**fe.info, "vtk": "paraview/block.pvd" if fe.info["frames"] else None}

@@ -4,53 +4,14 @@ import math
 import time
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from ..core.errors import NumericalError
 from ..core.series import (RecordPlan, TimeSeries, averaging_steps,
                                full_resolution_steps)
 from ..meshes import level_counts
 from . import integrators
 from .model import build_model
+from .normal_swing import judge
 from .paraview import FrameWriter, node_fields
 from .recording import extra_columns
-
-# A run whose summed normal force leaves F_N (1 +- STEADY_NORMAL) over the
-# averaging window (the last time.average_cycles cycles, which F_dv comes from)
-# is ringing on its contact (docs/model.md "Traps measured": 44-69 N instead of
-# 55 N, with a drive force 25% off): wrong, not physics, and refused.
-# What a sound run shows: the in-plane friction moves the summed normal force
-# only through the block's vertical inertia, a forced response at harmonics of
-# f through Poisson coupling: +-0.1% (longitudinal k_v = 6) to +-0.35%
-# (transverse k_v = 20) of F_N on the coarse mesh, the same with 7x the damping.
-# (Right after vibration.t_on the base's velocity jumps from 0 to v_a and the
-# block's contact modes ring for ~10 ms, up to 1.5% in the transverse case;
-# info reports that as F_n_*_after_t_on.)
-STEADY_NORMAL = 0.01
-
-# A larger swing is physics, and reported rather than refused, when it is the
-# block's forced response: at least FORCED_FRACTION of its power over the
-# window (whole cycles of f) at the harmonics of the vibration frequency.
-# Measured on the Fig 7 scene at 10 ms of vibration: with k_t x 100 (a contact
-# stiffer than the block's own shear stiffness, which rocks it) the sum swings
-# 53.8-56.1 N, 99.8% of it at harmonics, the same at dt = 1e-6 and 5e-7 s;
-# a front-face drive with mu = 0.3 bounces the block (41-71 N), 0.3% at
-# harmonics (explicit; reduced 1%): free motion on its contact, refused.
-FORCED_FRACTION = 0.95
-
-
-def forced_fraction(values, dt: float, f: float) -> float:
-    """The fraction of the variance of ``values`` (a whole number of cycles of f,
-    sampled every dt) at the harmonics k f, k >= 1."""
-    spectrum = np.abs(np.fft.rfft(values - values.mean())) ** 2
-    total = spectrum[1:].sum()
-    if total == 0.0:
-        return 1.0
-    cycles = values.size * dt * f                 # the window's length in cycles of f
-    bins = np.arange(spectrum.size)
-    harmonic = (bins > 0) & (np.abs(bins / cycles - np.round(bins / cycles)) < 0.5 / cycles)
-    return float(spectrum[harmonic].sum() / total)
-
 
 @dataclass
 class FEResult:
@@ -108,8 +69,11 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     (every step), F_n_min_after_t_on / F_n_max_after_t_on (every step from
     vibration.t_on; None without vibration), F_n_min_window / F_n_max_window
     (the averaging window), F_n_forced_fraction (the share of the window's
-    swing at harmonics of f: a swing above STEADY_NORMAL is accepted as the
-    block rocking when this is at least FORCED_FRACTION), frames, vtk (the .pvd path or None), setup_time_s,
+    swing at harmonics of f), F_n_kind ("steady", "rocking" or "transient":
+    normal_swing.py; a ringing run raises), F_n_min_window_end / F_n_max_window_end /
+    F_n_forced_fraction_end (the window's end, as normal_swing.judge sees it),
+    F_n_free_frequency_hz (the largest line of the window's swing off the
+    harmonics of f; None where steady), frames, vtk (the .pvd path or None), setup_time_s,
     loop_time_s, wall_time_s; and what the integrator's set-up reports
     (implicit.py ImplicitRun.info, reduction.py ReducedRun.info).
     """
@@ -135,19 +99,8 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
             writer.close()
     series = TimeSeries.from_table(run.table, extra_columns(scene.fem.energy))
 
-    F_N = scene.contact.F_N
     window = series.extra["F_n"][-averaging_steps(scene):]
-    low, high = float(window.min()), float(window.max())
-    forced = forced_fraction(window, scene.time.dt, scene.vibration.f)
-    if max(F_N - low, high - F_N) > STEADY_NORMAL * F_N and forced < FORCED_FRACTION:
-        raise NumericalError(
-            f"the summed normal force swung between {low:.4g} and {high:.4g} N (F_N = {F_N} N) "
-            f"over the averaging window, only {forced:.1%} of it at harmonics of the vibration: "
-            f"the block is ringing or bouncing on its contact, not rocking with the base; "
-            f"raise fem.damping (now {model.beta:.3g} s) or lower time.dt, or, if it rings "
-            f"the same at half the step (a stiff contact locks the block to the base and "
-            f"damps its free vibration slowly), start the vibration later (vibration.t_on) "
-            f"or average later (time.T)")
+    swing = judge(window, scene.time.dt, scene.vibration.f, scene.contact.F_N, model.beta)
 
     disc = model.disc
     info = {
@@ -177,9 +130,14 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
         "F_n_max": run.stats["F_n_max"],
         "F_n_min_after_t_on": run.stats["F_n_min_after_t_on"] if scene.vibrated else None,
         "F_n_max_after_t_on": run.stats["F_n_max_after_t_on"] if scene.vibrated else None,
-        "F_n_min_window": low,
-        "F_n_max_window": high,
-        "F_n_forced_fraction": forced,
+        "F_n_kind": swing.kind,
+        "F_n_min_window": swing.low,
+        "F_n_max_window": swing.high,
+        "F_n_forced_fraction": swing.forced,
+        "F_n_min_window_end": swing.end_low,
+        "F_n_max_window_end": swing.end_high,
+        "F_n_forced_fraction_end": swing.end_forced,
+        "F_n_free_frequency_hz": swing.free_frequency_hz,
         "frames": writer.frames if writer is not None else 0,
         "vtk": str(writer.path) if writer is not None else None,
         "setup_time_s": setup_time,
