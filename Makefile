@@ -1,8 +1,8 @@
 # Two commands do everything on a fresh Debian machine:
 #   make demo   install what is missing, then run the default scene
 #   make test   install what is missing, then run the test suite (all of it,
-#               the slow FE cases too: ~15 min on two cores; "make test-fast"
-#               runs the default selection, ~5-7 min)
+#               the slow FE cases too: ~8 min on two cores; "make test-fast"
+#               runs the default selection)
 # Both are idempotent: a second call installs nothing.
 #
 # The current DOLFINx (PyPI dolfinx-solver-real) runs beside Debian's 0.5.2:
@@ -15,6 +15,11 @@ DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-matplotlib p
            libopenblas0-pthread
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEMO_OUT ?= results/demo
+# pytest-xdist: the tests run in TEST_JOBS processes, each module's tests in one
+# of them (its module fixtures computed once). Most of a fresh clone's test time
+# is numba compiling each law's loops; two processes compile side by side.
+TEST_JOBS ?= 2
+PYTEST := -m pytest -q -n $(TEST_JOBS) --dist loadscope
 
 VENV_LATEST ?= .venv-latest
 PY_LATEST   := $(VENV_LATEST)/bin/python
@@ -33,13 +38,13 @@ demo: $(VENV)/.installed
 	$(VENV)/bin/vibrofric run scenes/longitudinal.toml --set time.T=0.3 --out $(DEMO_OUT) --force
 
 test: $(VENV)/.installed
-	$(PY) -m pytest -q -m ""
+	$(PY) $(PYTEST) -m ""
 
 test-fast: $(VENV)/.installed
-	$(PY) -m pytest -q
+	$(PY) $(PYTEST)
 
 test-latest: $(VENV_LATEST)/.installed
-	$(PY_LATEST) -m pytest -q
+	$(PY_LATEST) $(PYTEST)
 
 # Speed against error of every method (README "Choosing settings"), then the
 # analytic stepper's own timings (benchmarks/).

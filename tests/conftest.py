@@ -1,3 +1,4 @@
+import os
 import pathlib
 
 import numpy as np
@@ -13,6 +14,21 @@ from vibrofric.core.errors import Refusal
 from vibrofric.core.series import COLUMNS, PLOT_CYCLES, ROWS_PER_CYCLE, written_stride
 
 SCENES = pathlib.Path(__file__).resolve().parent.parent / "scenes"
+ROOT = SCENES.parent
+
+# The variables an initialized MPI runtime leaves in its process's environment
+# (mpi4py imported above starts Open MPI as a singleton: OMPI_MCA_ess, PMIX_*).
+# A child given them believes it was launched by that runtime: Open MPI's
+# mpirun exits 1 at once, the PyPI stack's MPICH aborts ("unsupported PMI
+# version PMIx"). Seen under pytest-xdist's worker processes.
+MPI_RUNTIME = ("OMPI_", "PMIX_", "PMI_")
+
+
+def child_environment(**more) -> dict:
+    """The environment for a child process running the project: this one's without
+    the MPI runtime's variables, the source tree on PYTHONPATH, then ``more``."""
+    env = {key: value for key, value in os.environ.items() if not key.startswith(MPI_RUNTIME)}
+    return {**env, "PYTHONPATH": str(ROOT), **more}
 
 
 @pytest.fixture(scope="session")

@@ -3,7 +3,6 @@ survive being killed, and keep going past a failed point."""
 
 import csv
 import json
-import os
 import pathlib
 import shutil
 import signal
@@ -12,6 +11,7 @@ import sys
 import time
 
 import pytest
+from conftest import child_environment
 
 from vibrofric.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_POINTS_FAILED, main
 
@@ -41,12 +41,8 @@ def command(args):
     return [sys.executable, "-m", "vibrofric.cli", *args]
 
 
-def environment(**more):
-    return {**os.environ, "PYTHONPATH": str(ROOT), **more}
-
-
 def vibrofric(args):
-    return subprocess.run(command(args), env=environment(), cwd=ROOT, capture_output=True, text=True,
+    return subprocess.run(command(args), env=child_environment(), cwd=ROOT, capture_output=True, text=True,
                           timeout=300)
 
 
@@ -116,7 +112,7 @@ def test_mpirun_on_two_ranks_gives_the_serial_results(serial, tmp_path):
     # --oversubscribe and --allow-run-as-root and ignores these. Open MPI
     # refuses to run as root unless told twice, and more ranks than cores
     # only if allowed.
-    env = environment(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+    env = child_environment(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                       OMPI_MCA_rmaps_base_oversubscribe="1")
     done = subprocess.run([mpi_launcher(), "-n", "2", *command(fe_sweep(out))],
                           env=env, cwd=ROOT, capture_output=True, text=True, timeout=300)
@@ -127,7 +123,7 @@ def test_mpirun_on_two_ranks_gives_the_serial_results(serial, tmp_path):
 
 def kill_after_its_first_point(args, out) -> None:
     """Start the sweep, SIGTERM it as soon as a point has finished, and see it stop."""
-    sweep = subprocess.Popen(command(args), env=environment(), cwd=ROOT,
+    sweep = subprocess.Popen(command(args), env=child_environment(), cwd=ROOT,
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     while not (out / "points").is_dir() or not summary_times(out):

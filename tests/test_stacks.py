@@ -8,12 +8,12 @@ only when the other stack has not been set up (``.ci/run`` sets up both).
 """
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from conftest import child_environment
 
 pytest.importorskip("mpi4py")
 from mpi4py import MPI  # noqa: E402,F401  (before dolfinx)
@@ -48,8 +48,7 @@ def _other_stack():
 
 
 def _run(python):
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    done = subprocess.run([str(python), "-c", PROGRAM], cwd=ROOT, env=env,
+    done = subprocess.run([str(python), "-c", PROGRAM], cwd=ROOT, env=child_environment(),
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.splitlines()[-1])
