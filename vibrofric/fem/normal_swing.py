@@ -42,29 +42,33 @@ END_FRACTION = 0.25
 END_CYCLES = 4
 
 
+def _spectrum(values, dt: float, f: float):
+    """The power spectrum of ``values`` (a whole number of cycles of f, sampled every
+    dt) about their mean, and which of its bins are the harmonics k f, k >= 1."""
+    power = np.abs(np.fft.rfft(values - values.mean())) ** 2
+    cycles = values.size * dt * f                 # the window's length in cycles of f
+    bins = np.arange(power.size) / cycles         # each bin's frequency over f
+    harmonic = (bins > 0) & (np.abs(bins - np.round(bins)) < 0.5 / cycles)
+    return power, harmonic
+
+
 def forced_fraction(values, dt: float, f: float) -> float:
     """The fraction of the variance of ``values`` (a whole number of cycles of f,
     sampled every dt) at the harmonics k f, k >= 1."""
-    spectrum = np.abs(np.fft.rfft(values - values.mean())) ** 2
-    total = spectrum[1:].sum()
+    power, harmonic = _spectrum(values, dt, f)
+    total = power[1:].sum()
     if total == 0.0:
         return 1.0
-    cycles = values.size * dt * f                 # the window's length in cycles of f
-    bins = np.arange(spectrum.size)
-    harmonic = (bins > 0) & (np.abs(bins / cycles - np.round(bins / cycles)) < 0.5 / cycles)
-    return float(spectrum[harmonic].sum() / total)
+    return float(power[harmonic].sum() / total)
 
 
 def free_frequency(values, dt: float, f: float) -> float:
     """The frequency (Hz) of the largest spectral line of ``values`` that is not a
     harmonic of f: the free vibration's, to the window's resolution 1 / (n dt)."""
-    spectrum = np.abs(np.fft.rfft(values - values.mean())) ** 2
-    cycles = values.size * dt * f
-    bins = np.arange(spectrum.size)
-    free = (bins > 0) & (np.abs(bins / cycles - np.round(bins / cycles)) >= 0.5 / cycles)
-    if not free.any():
-        return 0.0
-    return float(bins[free][np.argmax(spectrum[free])] / (values.size * dt))
+    power, harmonic = _spectrum(values, dt, f)
+    power[0] = 0.0
+    power[harmonic] = 0.0
+    return float(np.argmax(power) / (values.size * dt))
 
 
 @dataclass
