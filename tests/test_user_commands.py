@@ -164,6 +164,32 @@ def test_single_run_interrupted_in_its_time_loop_leaves_nothing(home, how, said)
     assert tree(home) == before
 
 
+def test_a_writer_the_failure_left_open_cannot_recreate_the_stage(tmp_path):
+    """The interrupted run above, without its timing: a writer whose destructor writes
+    a file (DOLFINx's VTKFile writes its .pvd again), still held by the frames of
+    the work that an interrupt stopped. output.staged lets it go before it removes
+    the stage; removed first, the writer's destructor would recreate it once the
+    exception is dropped (it did, under load: a .R.part-*/paraview/block.pvd)."""
+    class LateWriter:
+        def __init__(self, path):
+            self.path = path
+
+        def __del__(self):
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self.path.write_text("written by a destructor")
+
+    def work(stage):
+        writer = LateWriter(stage / "paraview" / "block.pvd")  # noqa: F841 (held by this frame)
+        raise KeyboardInterrupt
+
+    try:
+        with output.staged(tmp_path / "R", "run") as stage:
+            work(stage)
+    except KeyboardInterrupt:
+        pass
+    assert list(tmp_path.iterdir()) == []
+
+
 def worker_pids(parent: int) -> list:
     """The live processes whose parent is ``parent`` (from /proc/*/stat)."""
     pids = []

@@ -20,9 +20,11 @@ do with its ``--out``:
 import contextlib
 import csv
 import datetime
+import gc
 import json
 import os
 import shutil
+import traceback
 import uuid
 from pathlib import Path
 
@@ -149,7 +151,12 @@ def staged(target: Path, command: str | None = None, claimed: bool = False):
         if command is not None:
             write_marker(stage, command)
         yield stage
-    except BaseException:
+    except BaseException as failure:
+        # The failed work's frames go first: an open writer they still hold (DOLFINx's
+        # VTKFile, interrupted by Ctrl-C) writes its .pvd when destroyed, and would
+        # recreate the stage after its removal.
+        traceback.clear_frames(failure.__traceback__)
+        gc.collect()
         shutil.rmtree(stage, ignore_errors=True)
         if claimed:
             with contextlib.suppress(OSError):

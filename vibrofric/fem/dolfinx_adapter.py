@@ -181,10 +181,13 @@ def node_coordinates(V) -> np.ndarray:
 
 @contextlib.contextmanager
 def signals_held():
-    """Hold Ctrl-C and SIGTERM until the block is done. An interrupt raised
-    inside DOLFINx's VTK writer would keep the writer alive in its traceback,
+    """Hold Ctrl-C and SIGTERM in this thread until the block is done. An interrupt
+    raised inside DOLFINx's VTK writer would keep the writer alive in its traceback,
     and its destructor would then write the .pvd again after a failed run's
-    directory was removed, recreating it."""
+    directory was removed, recreating it. Other threads (OpenBLAS's, tqdm's
+    monitor) may still take the signal, and Python then raises it here at the
+    next bytecode: output.staged releases the failed work's frames before it
+    removes the directory, and VTKSeries.close lets the writer go first."""
     held = {signal.SIGINT, signal.SIGTERM}
     previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
     try:
@@ -225,7 +228,7 @@ class VTKSeries:
         """Write the .pvd and let DOLFINx's writer go at once: its destructor
         writes the .pvd again (creating its directory if need be), which must
         happen before a failed run's directory is removed, not after."""
-        if self.file is not None:
+        file, self.file = self.file, None
+        if file is not None:
             with signals_held():
-                self.file.close()
-                self.file = None
+                file.close()
