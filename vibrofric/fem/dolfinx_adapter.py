@@ -31,8 +31,6 @@ Arrays are indexed like DOLFINx's blocked vector space: node d carries the
 degrees of freedom 3 d + c, c = 0, 1, 2 for X, Y, Z.
 """
 
-import contextlib
-import signal
 import sys
 
 import numpy as np
@@ -179,23 +177,6 @@ def node_coordinates(V) -> np.ndarray:
     return coordinates
 
 
-@contextlib.contextmanager
-def signals_held():
-    """Hold Ctrl-C and SIGTERM in this thread until the block is done. An interrupt
-    raised inside DOLFINx's VTK writer would keep the writer alive in its traceback,
-    and its destructor would then write the .pvd again after a failed run's
-    directory was removed, recreating it. Other threads (OpenBLAS's, tqdm's
-    monitor) may still take the signal, and Python then raises it here at the
-    next bytecode: output.staged releases the failed work's frames before it
-    removes the directory, and VTKSeries.close lets the writer go first."""
-    held = {signal.SIGINT, signal.SIGTERM}
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
-
-
 class VTKSeries:
     """A .pvd time series of node fields on the vector Q1 space ``V`` (DOLFINx VTKFile).
 
@@ -211,8 +192,7 @@ class VTKSeries:
         self.functions = {name: fem.Function(Q if name in scalars else V, name=name)
                           for name in fields}
         self.scalars = set(scalars)
-        with signals_held():
-            self.file = dolfinx.io.VTKFile(comm, str(path), "w")
+        self.file = dolfinx.io.VTKFile(comm, str(path), "w")
 
     def write(self, values: dict, t: float) -> None:
         """One frame at time ``t`` from ``values`` {name: array over the nodes}."""
@@ -221,14 +201,14 @@ class VTKSeries:
                 function.x.array[:] = values[name][self.q_nodes]
             else:
                 function.x.array[:] = values[name].ravel()
-        with signals_held():
-            self.file.write_function(list(self.functions.values()), t)
+        self.file.write_function(list(self.functions.values()), t)
 
     def close(self) -> None:
         """Write the .pvd and let DOLFINx's writer go at once: its destructor
         writes the .pvd again (creating its directory if need be), which must
-        happen before a failed run's directory is removed, not after."""
+        happen before a failed run's directory is removed, not after. (An
+        interrupt may leave the writer in a traceback's frames: output.staged
+        clears them before it removes the directory.)"""
         file, self.file = self.file, None
         if file is not None:
-            with signals_held():
-                file.close()
+            file.close()
