@@ -14,13 +14,13 @@ fresh process with its own numba cache, and reads their assembly.
 """
 
 import json
-import os
 import platform
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from conftest import child_environment
 
 pytest.importorskip("dolfinx")
 
@@ -60,7 +60,7 @@ def _runs_avx2() -> bool:
 def test_loops_compiled_for_intel_have_no_gathers(tmp_path):
     if not _runs_avx2():
         pytest.skip("this machine cannot run AVX2 code")
-    env = dict(os.environ, NUMBA_CPU_NAME="skylake", NUMBA_CACHE_DIR=str(tmp_path))
+    env = child_environment(NUMBA_CPU_NAME="skylake", NUMBA_CACHE_DIR=str(tmp_path))
     result = subprocess.run([sys.executable, "-c", SCRIPT], cwd=ROOT, env=env,
                             capture_output=True, text=True, timeout=900)
     assert result.returncode == 0, result.stderr[-3000:]
