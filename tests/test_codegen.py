@@ -39,7 +39,7 @@ for integrator, dt in (("explicit", 1e-6), ("implicit", 1e-5), ("reduced", 1e-5)
     run_fe(base.with_values({"fem.integrator": integrator, "time.dt": dt}))
 law = base.friction.law
 loops = {"explicit_steps": explicit_steps.for_law(law), "implicit_steps": implicit_steps.for_law(law),
-         "_bsr_apply": linalg._bsr_apply, "_lu_solve": linalg._lu_solve, "_dot": linalg._dot}
+         "_bsr_apply": linalg._bsr_apply, "_lu_solve": linalg._lu_solve}
 counts = {}
 for name, dispatcher in loops.items():
     assembly = "".join(dispatcher.inspect_asm().values())

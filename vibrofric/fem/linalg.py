@@ -6,7 +6,8 @@ operators it gets decide, at compile time, which code runs.
 
     apply(op, x, out)    out = op x, for
                          a 1-D array        (a diagonal: the lumped mass)
-                         a 2-D array        (a dense matrix: the reduced model)
+                         a 2-D array        (a dense matrix: the reduced model,
+                                            the contact space; BLAS gemv)
                          BSR (indptr, columns, data (blocks, 3, 3))
                                             (the block's K in 3x3 node blocks, bsr())
     solve(inv, b, out)   out = A^-1 b, for
@@ -15,6 +16,7 @@ operators it gets decide, at compile time, which code runs.
 
 ``factorize(A)`` returns the SparseLU of a scipy sparse matrix (SuperLU, as
 scipy.sparse.linalg.splu computes it), ``inverse(A)`` the dense inverse.
+Time loops run inside ``one_blas_thread()``.
 """
 
 from typing import NamedTuple
@@ -24,6 +26,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 from numba import njit, types
 from numba.extending import overload
+from threadpoolctl import threadpool_limits
 
 
 # Sums may be reordered (SIMD, several accumulators): 2-4x faster products and
@@ -190,6 +193,20 @@ def bsr(matrix):
             np.ascontiguousarray(blocks.data))
 
 
+def one_blas_thread():
+    """A context in which BLAS runs on the calling thread only (threadpoolctl).
+
+    The dense products are BLAS gemv calls of ~100 x 100 on the paper's
+    meshes: 1.2 us against 3.7 us for the compiled row loop they replace
+    (98 x 98, this machine). OpenBLAS splits a gemv of more than 9,216
+    entries over its threads, and for a product of a microsecond the hand-off
+    costs more than the work: the reduced Fig 7 loop took 3.3 s threaded
+    against 1.07 s on one thread (2 cores, another job on the second). The
+    set-up's large factorizations and products keep their threads.
+    """
+    return threadpool_limits(limits=1, user_api="blas")
+
+
 def apply(op, x, out):
     """out = op x (compiled per operator type, see the module docstring)."""
     raise NotImplementedError("apply runs inside numba")
@@ -212,25 +229,13 @@ def _apply(op, x, out):
         return diagonal
     if isinstance(op, types.Array) and op.ndim == 2:
         def dense(op, x, out):
-            for i in range(op.shape[0]):
-                out[i] = _dot(op[i], x)
+            np.dot(op, x, out)
         return dense
     if isinstance(op, types.BaseTuple) and len(op) == 3:
         def blocks(op, x, out):
             _bsr_apply(op[0], op[1], op[2], x, out)
         return blocks
     return None
-
-
-@njit(cache=True, fastmath=LINEAR_FASTMATH)
-def _dot(a, b):
-    """a . b of two contiguous vectors: a dense product's row. A loop of its own, on
-    one-dimensional rows, is what LLVM vectorizes: written on op[i, k] in place,
-    the same product took 3x longer (measured, 98 x 98: 9 against 3.5 us)."""
-    s = 0.0
-    for k in range(a.shape[0]):
-        s += a[k] * b[k]
-    return s
 
 
 # Unsigned offsets keep an unsigned index unsigned (bsr; numba would type index + 1 as signed).

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import trouble
+from .linalg import one_blas_thread
 from .recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
                         loop_stats, run_in_chunks)
 from .steady import SteadyState
@@ -105,7 +106,8 @@ class TimeLoop:
                 raise trouble.failure(failed, code, scene, self.hint)
             return stop
 
-        last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress)
+        with one_blas_thread():
+            last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress)
         stats = {**loop_stats(scalars, loop_time), **self.stats(scalars, last),
                  **steady.report(last)}
         return Integration(recorder.table(last), state(last), stats)
