@@ -179,10 +179,12 @@ def measure_law(scene, plan: Plan, label: str, law: str, parameters: dict) -> La
 
 
 def measure_fe(scene, integrator: str, mesh: str, dt: float, values=None) -> Measurement:
-    """One FE run of ``scene`` with the integrator, mesh level and step (and ``values``)."""
+    """One FE run of ``scene`` with the integrator, mesh level and step (and ``values``),
+    with its whole set-up (no reduction kept from an earlier run)."""
     from .analytic.summary import summarize
-    from .fem import run_fe
+    from .fem import reduction, run_fe
 
+    reduction.forget()
     case = scene.with_values({"fem.integrator": integrator, "fem.mesh": mesh, "time.dt": dt,
                               **(values or {})})
     start = time.perf_counter()
