@@ -291,6 +291,31 @@ def test_craig_bampton_is_statically_exact_and_converges_with_the_cutoff(comm):
     assert errors[2] < 0.01
 
 
+def test_a_sweep_reuses_the_reduction_of_the_same_block_only(comm):
+    """The reduction a process keeps is reused for the same model and cutoff (a
+    sweep's points), made again for another cutoff or another block, and the
+    kept full compliances give the error the uncached computation gives, bit
+    for bit."""
+    from vibrofric.fem.reduction import forget, reduced
+    scene = load(LONGITUDINAL)
+    cutoff = scene.fem.cutoff * scene.vibration.f
+    forget()
+    model = fem_model.build_model(scene, comm)
+    first = reduced(model, cutoff)
+    assert reduced(fem_model.build_model(scene, comm), cutoff) is first   # rebuilt, same block
+    assert reduced(model, 2 * cutoff) is not first
+    softer = fem_model.build_model(load(LONGITUDINAL, "body.E=1e11"), comm)
+    assert reduced(softer, cutoff) is not reduced(model, cutoff)
+    forget()
+    fresh = compliance_error(model, Reduction(model, cutoff), scene)
+    forget()
+    kept = reduced(model, cutoff)
+    compliance_error(model, kept, scene)                 # fills the kept compliances
+    again = compliance_error(model, reduced(model, cutoff), scene)
+    assert again == fresh
+    forget()
+
+
 def test_the_reduction_estimate_sees_a_stiff_contact_lift_the_rocking_modes(comm):
     """k_t x 100 on the Fig 7 scene: the rocking modes on the contact rise above 3 f
     and the friction's spectrum reaches far above it, so the compliance is compared
