@@ -25,6 +25,7 @@ class Scheme(NamedTuple):
     beta: float             # the model's Rayleigh damping, s
     tolerance: float        # of the contact iteration, m
     max_iterations: int
+    still_substeps: int     # friction sub-steps a step before the base moves (contact_solve)
 
 
 def coefficients(rho_inf: float, dt: float) -> tuple:

@@ -115,7 +115,8 @@ from ..friction_law.contract import FASTMATH
 from . import energy, recording, trouble
 from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRACTION,
                             MAX_ITERATIONS, MIN_STEP, STALL_FACTOR, ContactData, StepStart,
-                            _newton_correction, _residual, friction_substeps)
+                            _newton_correction, _residual, friction_substeps,
+                            still_substeps)
 from .drive import prescribed_position
 from .energy import contact_step as energy_step, stored as energy_stored
 from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
@@ -376,7 +377,8 @@ class ImplicitRun(TimeLoop):
                             self.tangent, self.assumed)
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
         scheme = Scheme(dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
-                        ITERATION_TOLERANCE * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS)
+                        ITERATION_TOLERANCE * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
+                        still_substeps(scene))
         drive = Drive(scene.drive.k_d, scene.drive.v_d, self.prescribed)
         limits = Limits(c.F_N, scene.mu_max)
 
@@ -407,7 +409,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
     amplitude, omega, t_on, cos_theta, sin_theta, eta_y = base
     k_d, v_d, prescribed = drive
     spring = math.inf if prescribed else k_d   # the drive spring's stiffness (energy)
-    dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, beta, tolerance, max_iterations = scheme
+    dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, beta, tolerance, max_iterations, still = scheme
     stall_tolerance = tolerance * STALL_FACTOR
     F_N, mu_max = limits
     qt, vt, x1, x2, r1, r2, rhs, y, q_new = (work.qt, work.vt, work.x1, work.x2, work.r1,
@@ -457,8 +459,9 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
                                                          cos_phase, cos_step, sin_step)
         xb_new, yb_new = u_base * cos_theta, u_base * sin_theta
         dx_b, dy_b = xb_new - xb, yb_new - yb
-        # The base over the friction sub-steps (eq 23): its exact sinusoid, ending at u_base.
-        m = base_dx.shape[0]
+        # The base over the friction sub-steps (eq 23): its exact sinusoid, ending at u_base;
+        # fewer sub-steps while it has not started (contact_solve.still_substeps).
+        m = base_dx.shape[0] if t > t_on else still
         u_prev = amplitude * math.sin(omega * (t - dt - t_on)) if t - dt >= t_on else 0.0
         for j in range(m):
             t_j = t - dt + (j + 1) * dt / m
@@ -467,7 +470,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             base_dx[j] = (u_j - u_prev) * cos_theta
             base_free[j] = eta_y * (u_j - u_prev) * sin_theta  # phase 2: eta_y dy_b (eq 30)
             u_prev = u_j
-        step = StepStart(q, v, vt, qt, base_dx, base_free)
+        step = StepStart(q, v, vt, qt, base_dx[:m], base_free[:m])
 
         # The contact-space fixed point, from the last step's g.
         y_a = y_a_y = 0.0
