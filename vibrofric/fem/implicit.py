@@ -62,7 +62,8 @@ non-contact rows of Z, and the iterations.
 The friction law inside the step. f_c(q_c) is each node's contact over the
 step from q_n to the trial q_{n+1}: the VFRIC analogue (contact.node_contact,
 the same per-node update as explicit.py) run on friction_substeps(scene)
-sub-steps, at least SUBSTEPS_PER_CYCLE a vibration cycle, with the base on
+sub-steps, at least SUBSTEPS_PER_CYCLE a vibration cycle (before the base
+starts, still_substeps: enough for the drive's slide), with the base on
 its exact sinusoid (eq 23) and the node at its mean velocity over the step.
 At dt = 1e-5 s, 25 steps a cycle, one piece would miss the base's curved
 path by ~1% of F_dv; four sub-steps bring it within 0.2%.
