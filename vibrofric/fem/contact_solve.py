@@ -120,7 +120,9 @@ def still_substeps(scene) -> int:
     loop takes 1.15 s instead of 1.34-1.43 s. With the exact Dahl update the
     sub-steps of a steady slide compose: F_dv/F_d0 moved by 2e-13 of itself
     (Fig 7), 5e-10 (coupled, k_v = 20, 75 deg), 1e-10 (LuGre on Fig 7, whose
-    measured F_d0 agreed to 10 digits).
+    measured F_d0 agreed to 10 digits); step by step the summed normal force
+    moved by up to 5e-7 of itself before the start (the sub-steps sample the
+    penalty dashpot) and F_x by 1e-6 of F_c just after it.
     """
     if not scene.F_c > 0.0 or scene.drive.v_d <= 0.0:
         return 1
