@@ -1,7 +1,7 @@
 # Two commands do everything on a fresh Debian machine:
 #   make demo   install what is missing, then run the default scene
 #   make test   install what is missing, then run the test suite (all of it,
-#               the slow FE cases too: 8-10 min on two cores; "make test-fast"
+#               the slow FE cases too: 4-6 min on two cores; "make test-fast"
 #               runs the default selection)
 # Both are idempotent: a second call installs nothing.
 #
