@@ -130,8 +130,9 @@ def still_substeps(scene) -> int:
     return min(friction_substeps(scene), max(1, math.ceil(scene.time.dt / resting - 1e-9)))
 
 
-@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _node(c, qx, qy, qz, step, contact_dofs, contact, params, scheme, states, state):
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, contact_dofs, u0c,
+                    penalty_share, area_share, params, dt, c_v, beta, states, state):
     """Contact node c over the step, ending at the trial displacements (qx, qy, qz).
 
     The friction law runs over the step's sub-steps (friction_substeps): the
@@ -139,23 +140,38 @@ def _node(c, qx, qy, qz, step, contact_dofs, contact, params, scheme, states, st
     sinusoid; the normal force's dashpot sees the velocity interpolated
     between v_n and v_{n+1} (Newmark, from q_{n+1}). The node's law state
     starts from states[c] and ends in ``state``. Returns contact.node_contact's
-    (N, F_x, F_y) at the end, and g_c = f_c + l q_c (g_z with l only where A holds it).
+    (N, F_x, F_y) at the end.
+
+    Arrays come one by one and the state is copied element by element: a
+    tuple unpacked or a row view taken here, once per node and evaluation,
+    costs numba an atomic reference count each, which took a quarter of the
+    reduced Fig 7 loop (a perf profile).
     """
-    q_old, v_old, vt, qt, base_dx, base_free = step
-    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
-    dt, c_v, beta = scheme.dt, scheme.c_v, scheme.beta
     ix, iy, iz = contact_dofs[c, 0], contact_dofs[c, 1], contact_dofs[c, 2]
     m = base_dx.shape[0]
     slip_x, slip_y = (qx - q_old[ix]) / m, (qy - q_old[iy]) / m
     z0, dz = u0c[c, 2] + q_old[iz], (qz - q_old[iz]) / m
     vz0, vz1 = v_old[iz], vt[iz] + c_v * (qz - qt[iz])
-    state[:] = states[c]
+    for k in range(state.shape[0]):
+        state[k] = states[c, k]
     n_i = f_x = f_y = 0.0
     for j in range(1, m + 1):
         tau = j / m
         n_i, f_x, f_y = node_contact(slip_x, slip_y, z0 + j * dz, vz0 + tau * (vz1 - vz0),
                                      base_dx[j - 1], base_free[j - 1], penalty_share[c],
                                      area_share[c], beta, params, dt / m, state)
+    return n_i, f_x, f_y
+
+
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _node(c, qx, qy, qz, step, contact_dofs, contact, params, scheme, states, state):
+    """_node_over_step for one node, its state ending in ``state``. Returns (N, F_x, F_y)
+    and g_c = f_c + l q_c (g_z with l only where A holds it)."""
+    q_old, v_old, vt, qt, base_dx, base_free = step
+    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
+    n_i, f_x, f_y = _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free,
+                                    contact_dofs, u0c, penalty_share, area_share, params,
+                                    scheme.dt, scheme.c_v, scheme.beta, states, state)
     return (n_i, f_x, f_y, -f_x + tangent[3 * c] * qx, -f_y + tangent[3 * c + 1] * qy,
             n_i + tangent[3 * c + 2] * assumed[c] * qz)
 
@@ -167,17 +183,27 @@ def _contact_space(qc, xa, t, step, contact_dofs, contact, params, drive, scheme
     Fills g (work) with g_c = f_c + l q_c and returns (F_d, sum N, sum F_x, sum F_y);
     the trial asperity states and forces land in work (not committed).
     """
+    q_old, v_old, vt, qt, base_dx, base_free = step
+    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
+    dt, c_v, beta = scheme.dt, scheme.c_v, scheme.beta
     k_d, v_d, prescribed = drive
-    g, trial_state = work.g, work.trial_state
+    g, trial_state, state = work.g, work.trial_state, work.scratch_state
     normal_t, force_t = work.normal_t, work.force_t
     f_n = f_x = f_y = 0.0
     for c in range(contact_dofs.shape[0]):
-        (normal_t[c], force_t[c, 0], force_t[c, 1], g[3 * c], g[3 * c + 1], g[3 * c + 2]) = _node(
-            c, qc[3 * c], qc[3 * c + 1], qc[3 * c + 2], step, contact_dofs, contact, params,
-            scheme, states, trial_state[c])
-        f_n += normal_t[c]
-        f_x += force_t[c, 0]
-        f_y += force_t[c, 1]
+        qx, qy, qz = qc[3 * c], qc[3 * c + 1], qc[3 * c + 2]
+        n_i, fx_i, fy_i = _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx,
+                                          base_free, contact_dofs, u0c, penalty_share,
+                                          area_share, params, dt, c_v, beta, states, state)
+        for k in range(state.shape[0]):
+            trial_state[c, k] = state[k]
+        normal_t[c], force_t[c, 0], force_t[c, 1] = n_i, fx_i, fy_i
+        g[3 * c] = -fx_i + tangent[3 * c] * qx
+        g[3 * c + 1] = -fy_i + tangent[3 * c + 1] * qy
+        g[3 * c + 2] = n_i + tangent[3 * c + 2] * assumed[c] * qz
+        f_n += n_i
+        f_x += fx_i
+        f_y += fy_i
     return k_d * (v_d * t - xa), f_n, f_x, f_y
 
 
