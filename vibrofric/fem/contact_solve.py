@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..core.friction import SLIP_PER_STEP, sliding_length, slip_resolving_step
+from ..core.friction import slip_resolving_step
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from .contact import node_contact
@@ -124,9 +124,9 @@ def still_substeps(scene) -> int:
     moved by up to 5e-7 of itself before the start (the sub-steps sample the
     penalty dashpot) and F_x by 1e-6 of F_c just after it.
     """
-    if not scene.F_c > 0.0 or scene.drive.v_d <= 0.0:
+    if scene.drive.v_d <= 0.0:
         return 1
-    resting = SLIP_PER_STEP * sliding_length(scene) / scene.drive.v_d
+    resting = slip_resolving_step(scene, speed=scene.drive.v_d)   # infinite without friction
     return min(friction_substeps(scene), max(1, math.ceil(scene.time.dt / resting - 1e-9)))
 
 
