@@ -150,7 +150,7 @@ class Work(NamedTuple):
     delta: np.ndarray
     rho: np.ndarray
     trial_state: np.ndarray  # (contacts, STATE_SIZE) the trial law states and forces
-    scratch_state: np.ndarray  # (STATE_SIZE,) one node's, for the Newton tangents
+    scratch_state: np.ndarray  # (STATE_SIZE,) one node's: the contact space's, a Newton tangent's
     normal_t: np.ndarray
     force_t: np.ndarray     # (contacts, 2)
     qc_best: np.ndarray     # (nc,) the iterate with the smallest residual

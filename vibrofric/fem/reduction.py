@@ -111,11 +111,11 @@ def forget() -> None:
 
 def reduced(model, cutoff_hz: float) -> "Reduction":
     """Reduction(model, cutoff_hz), or the one this process made last for the same."""
-    key = (model_key(model), cutoff_hz)
-    if key not in _last_reduction:
+    key = model_key(model)
+    if (key, cutoff_hz) not in _last_reduction:
         forget()
-        _last_reduction[key] = Reduction(model, cutoff_hz)
-    return _last_reduction[key]
+        _last_reduction[key, cutoff_hz] = Reduction(model, cutoff_hz, key)
+    return _last_reduction[key, cutoff_hz]
 
 
 class Reduction:
@@ -125,9 +125,11 @@ class Reduction:
     mass, stiffness   M_r, K_r (size, size)
     boundary    the full-model DOFs of q_b, contact node by node (X, Y, Z)
     frequencies the kept fixed-interface modes' frequencies, Hz
+    model_key   model_key(model): its full compliances are kept under it
     """
 
-    def __init__(self, model, cutoff_hz: float):
+    def __init__(self, model, cutoff_hz: float, key: str | None = None):
+        self.model_key = key if key is not None else model_key(model)
         n = model.dofs
         boundary = (3 * model.contact_nodes[:, None] + np.arange(3)[None, :]).ravel()
         interior = np.setdiff1d(np.arange(n), boundary)
@@ -261,10 +263,8 @@ def compliance_error(model, reduction: Reduction, scene) -> dict:
     K_full = (model.stiffness + sp.diags(full_springs)).tocsc()
     K_red = reduction.stiffness + np.diag(reduced_springs)
 
-    model_id = model_key(model)
-
     def full(omega):
-        key = (model_id, scene.law_bounds.stiffness, omega)
+        key = (reduction.model_key, scene.law_bounds.stiffness, omega)
         if key not in _full_compliance:
             matrix = K_full * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * sp.diags(model.disc.mass)
             lu = symmetric_lu(matrix, model.elimination_order)
