@@ -114,6 +114,7 @@ from ..core.friction import slip_per_step
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from . import energy, recording, trouble
+from .borrowed import borrowed
 from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRACTION,
                             MAX_ITERATIONS, MIN_STEP, STALL_FACTOR, ContactData, StepStart,
                             _newton_correction, _residual, friction_substeps,
@@ -403,6 +404,11 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
                    recorder, steady, work):
     """Advance steps ``first`` .. ``last``. Returns (failed step, code, stop step):
     (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py)."""
+    # The caller holds every array through the call: the loop uses them without
+    # reference counts (borrowed.py).
+    (operators, contact, params, work, q, v, a, states, normal, friction, g_prev, scalars, sums,
+     recorder) = borrowed((operators, contact, params, work, q, v, a, states, normal, friction,
+                           g_prev, scalars, sums, recorder))
     (mass, stiffness, inv, Z, G, h, e, h_y, e_xy, e_yy, contact_dofs, others, drive_index,
      drive_x, drive_y) = operators
     drives = Z.shape[1] - 3 * contact_dofs.shape[0]   # 1, or 2 for a drive held in Y
