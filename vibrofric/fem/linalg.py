@@ -201,8 +201,10 @@ def one_blas_thread():
     (98 x 98, this machine). OpenBLAS splits a gemv of more than 9,216
     entries over its threads, and for a product of a microsecond the hand-off
     costs more than the work: the reduced Fig 7 loop took 3.3 s threaded
-    against 1.07 s on one thread (2 cores, another job on the second). The
-    set-up's large factorizations and products keep their threads.
+    against 1.07 s on one thread (2 cores, another job on the second). A
+    single run's set-up keeps its threads; a sweep's FE points run on one
+    thread throughout, as the sweep already keeps every core busy
+    (batch/points.py).
     """
     return threadpool_limits(limits=1, user_api="blas")
 
