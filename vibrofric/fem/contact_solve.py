@@ -13,6 +13,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from numba import njit
 
 from ..core.friction import slip_resolving_step
 from ..friction_law import law_kernel
@@ -163,16 +164,11 @@ def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, con
     return n_i, f_x, f_y
 
 
-@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _node(c, qx, qy, qz, step, contact_dofs, contact, params, scheme, states, state):
-    """_node_over_step for one node, its state ending in ``state``. Returns (N, F_x, F_y)
-    and g_c = f_c + l q_c (g_z with l only where A holds it)."""
-    q_old, v_old, vt, qt, base_dx, base_free = step
-    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
-    n_i, f_x, f_y = _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free,
-                                    contact_dofs, u0c, penalty_share, area_share, params,
-                                    scheme.dt, scheme.c_v, scheme.beta, states, state)
-    return (n_i, f_x, f_y, -f_x + tangent[3 * c] * qx, -f_y + tangent[3 * c + 1] * qy,
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+def _contact_g(c, n_i, f_x, f_y, qx, qy, qz, tangent, assumed):
+    """g_c = f_c + l q_c of node c from its forces (N, F_x, F_y) at (qx, qy, qz):
+    the friction acts on the body as -F, and g_z has l only where A holds it."""
+    return (-f_x + tangent[3 * c] * qx, -f_y + tangent[3 * c + 1] * qy,
             n_i + tangent[3 * c + 2] * assumed[c] * qz)
 
 
@@ -198,9 +194,8 @@ def _contact_space(qc, xa, t, step, contact_dofs, contact, params, drive, scheme
         for k in range(state.shape[0]):
             trial_state[c, k] = state[k]
         normal_t[c], force_t[c, 0], force_t[c, 1] = n_i, fx_i, fy_i
-        g[3 * c] = -fx_i + tangent[3 * c] * qx
-        g[3 * c + 1] = -fy_i + tangent[3 * c + 1] * qy
-        g[3 * c + 2] = n_i + tangent[3 * c + 2] * assumed[c] * qz
+        g[3 * c], g[3 * c + 1], g[3 * c + 2] = _contact_g(c, n_i, fx_i, fy_i, qx, qy, qz,
+                                                          tangent, assumed)
         f_n += n_i
         f_x += fx_i
         f_y += fy_i
@@ -222,7 +217,8 @@ def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, s
 
         (I - (1 - af) G_SS J_SS) d_S = -rho_S,   delta = -rho + (1 - af) G_:S J_SS d_S.
     """
-    normal0, tangent, assumed = contact.normal0, contact.tangent, contact.assumed
+    q_old, v_old, vt, qt, base_dx, base_free = step
+    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
     af1 = 1.0 - scheme.alpha_f
     g, normal_t, subset, jac = work.g, work.normal_t, work.subset, work.jac
     for p in range(rho.shape[0]):
@@ -251,10 +247,13 @@ def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, s
                 y += steps[1]
             else:
                 z += steps[2]
-            result = _node(c, x, y, z, step, contact_dofs, contact, params, scheme, states,
-                           work.scratch_state)
+            n_i, f_x, f_y = _node_over_step(c, x, y, z, q_old, v_old, vt, qt, base_dx, base_free,
+                                            contact_dofs, u0c, penalty_share, area_share, params,
+                                            scheme.dt, scheme.c_v, scheme.beta, states,
+                                            work.scratch_state)
+            g_c = _contact_g(c, n_i, f_x, f_y, x, y, z, tangent, assumed)
             for r in range(3):
-                tangents[b, r, k] = (result[3 + r] - g[3 * c + r]) / steps[k]
+                tangents[b, r, k] = (g_c[r] - g[3 * c + r]) / steps[k]
     small = np.empty((m, m))
     rhs = np.empty(m)
     for a in range(m):

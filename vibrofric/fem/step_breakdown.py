@@ -83,20 +83,16 @@ def _seconds(call) -> float:
     """Seconds a call of ``call(repeats)``, best of PASSES passes of ~PASS_SECONDS, on one
     BLAS thread as in the time loop."""
     with one_blas_thread():
-        return _best_seconds(call)
-
-
-def _best_seconds(call) -> float:
-    call(1)
-    start = time.perf_counter()
-    call(10)
-    once = max((time.perf_counter() - start) / 10, 1e-9)
-    repeats = max(1, int(PASS_SECONDS / once))
-    best = np.inf
-    for _ in range(PASSES):
+        call(1)
         start = time.perf_counter()
-        call(repeats)
-        best = min(best, (time.perf_counter() - start) / repeats)
+        call(10)
+        once = max((time.perf_counter() - start) / 10, 1e-9)
+        repeats = max(1, int(PASS_SECONDS / once))
+        best = np.inf
+        for _ in range(PASSES):
+            start = time.perf_counter()
+            call(repeats)
+            best = min(best, (time.perf_counter() - start) / repeats)
     return best
 
 
