@@ -13,6 +13,7 @@ friction subroutine (docs/model.md section 5). One physical idea per module:
     stability    the highest frequency, default damping, explicit stable step
     model        a scene's FE model as plain arrays (all of the above, once per run)
     linalg       products and factorized solves inside the numba loops
+    simd         four-lane vectors of doubles for the product with K (llvmlite)
     time_loop    what every integrator's run does around its compiled step
     explicit     central-difference time loop (numba), the baseline integrator
     implicit     generalized-alpha, the linear operator factorized once, the contact

@@ -8,8 +8,9 @@ operators it gets decide, at compile time, which code runs.
                          a 1-D array        (a diagonal: the lumped mass)
                          a 2-D array        (a dense matrix: the reduced model,
                                             the contact space; BLAS gemv)
-                         BSR (indptr, columns, data (blocks, 3, 3))
-                                            (the block's K in 3x3 node blocks, bsr())
+                         BSR (indptr, columns, data)
+                                            (the block's K in 3x3 node blocks, bsr();
+                                            four-lane vectors, simd.py)
     solve(inv, b, out)   out = A^-1 b, for
                          a 2-D array        (A^-1 itself: small dense systems)
                          SparseLU           (triangular factors of A: P_r A P_c = L U)
@@ -27,6 +28,8 @@ import scipy.sparse.linalg as sla
 from numba import njit, types
 from numba.extending import overload
 from threadpoolctl import threadpool_limits
+
+from . import simd
 
 
 # Sums may be reordered (SIMD, several accumulators): 2-4x faster products and
@@ -181,16 +184,18 @@ def columns_of_inverse(inv, dofs: np.ndarray) -> np.ndarray:
 def bsr(matrix):
     """A sparse matrix of 3x3 node blocks as the (indptr, columns, data) ``apply`` takes:
     block p of node row i holds K[3i:3i+3, c:c+3], c = columns[p] the first DOF of its
-    column node.
+    column node, row-major at data[9p:9p+9]; one zero follows the last block, so that
+    the product's four-lane load of its last row stays inside the array (_bsr_apply).
 
     indptr and columns are unsigned: numba indexes an array by a signed integer
     through a test for negative indices (Python's wrap-around), three per block
-    here, which kept the product at half its speed (linalg._bsr_apply).
+    here, which kept the product at half its speed.
     """
     blocks = sp.bsr_matrix(matrix, blocksize=(3, 3))
     blocks.sort_indices()
-    return (blocks.indptr.astype(np.uint64), 3 * blocks.indices.astype(np.uint64),
-            np.ascontiguousarray(blocks.data))
+    data = np.zeros(blocks.data.size + 1)
+    data[:-1] = blocks.data.ravel()
+    return (blocks.indptr.astype(np.uint64), 3 * blocks.indices.astype(np.uint64), data)
 
 
 def one_blas_thread():
@@ -241,30 +246,51 @@ def _apply(op, x, out):
 
 
 # Unsigned offsets keep an unsigned index unsigned (bsr; numba would type index + 1 as signed).
-_ONE, _TWO, _THREE, _FOUR = np.uint64(1), np.uint64(2), np.uint64(3), np.uint64(4)
+_ONE, _TWO, _THREE, _FOUR, _SIX = (np.uint64(1), np.uint64(2), np.uint64(3), np.uint64(4),
+                                   np.uint64(6))
+
+
+@njit(cache=True, fastmath={"contract"}, inline="always")
+def _block_rows(data, p, w, s0, s1, s2):
+    """(s0, s1, s2) + the rows of block p times w, lane by lane (the block's 9 multiply-adds).
+
+    Each row is loaded four lanes wide: its fourth lane is the next row's first
+    entry (or the zero after the last block), and w's fourth lane is zero."""
+    q = np.uint64(9) * p
+    return (simd.fma(simd.load(data, q), w, s0),
+            simd.fma(simd.load(data, q + _THREE), w, s1),
+            simd.fma(simd.load(data, q + _SIX), w, s2))
 
 
 @njit(cache=True, fastmath={"contract"})
 def _bsr_apply(indptr, columns, data, x, out):
-    """out = K x, K in 3x3 node blocks (bsr), a node row at a time: 9 multiply-adds a block.
+    """out = K x, K in 3x3 node blocks (bsr), a node row at a time.
 
-    Only multiply-adds are fused ("contract"): with reordering allowed too, LLVM
-    vectorizes across blocks with gathered loads, 1.6x slower than this scalar
-    loop (measured, coarse mesh: 9.9 against 15.7 us a product).
+    A row of blocks B_p (columns c_p) gives out_r = sum_p sum_k B_p[r, k] x[c_p + k].
+    The sums run in four-lane vectors (simd.py), one a block row: lane k of s_r
+    adds B_p[r, k] x[c_p + k], and out_r is the sum of its three lanes at the
+    row's end. Two blocks at a time, into two sets of sums, keep two multiply-adds
+    in flight on each. LLVM does not find this shape by itself: with reordering
+    of sums allowed it vectorized across blocks with gathered loads, which
+    Intel's Gather Data Sampling mitigation makes several times slower, and
+    without it the scalar loop did 9 multiply-adds a block one by one (8.0
+    against 5.3 us a product on the coarse mesh, Intel Xeon).
     """
     for node in range(indptr.shape[0] - 1):
-        a0 = a1 = a2 = 0.0
-        for p in range(indptr[node], indptr[node + 1]):
-            col = columns[p]
-            w0, w1, w2 = x[col], x[col + _ONE], x[col + _TWO]
-            b = data[p]
-            a0 += b[0, 0] * w0 + b[0, 1] * w1 + b[0, 2] * w2
-            a1 += b[1, 0] * w0 + b[1, 1] * w1 + b[1, 2] * w2
-            a2 += b[2, 0] * w0 + b[2, 1] * w1 + b[2, 2] * w2
+        s0, s1, s2 = simd.zeros(), simd.zeros(), simd.zeros()
+        t0, t1, t2 = simd.zeros(), simd.zeros(), simd.zeros()
+        p, end = indptr[node], indptr[node + 1]
+        while p + _ONE < end:
+            s0, s1, s2 = _block_rows(data, p, simd.load3(x, columns[p]), s0, s1, s2)
+            t0, t1, t2 = _block_rows(data, p + _ONE, simd.load3(x, columns[p + _ONE]),
+                                     t0, t1, t2)
+            p += _TWO
+        if p < end:
+            s0, s1, s2 = _block_rows(data, p, simd.load3(x, columns[p]), s0, s1, s2)
         row = 3 * node
-        out[row] = a0
-        out[row + 1] = a1
-        out[row + 2] = a2
+        out[row] = simd.sum3(simd.add(s0, t0))
+        out[row + 1] = simd.sum3(simd.add(s1, t1))
+        out[row + 2] = simd.sum3(simd.add(s2, t2))
 
 
 @njit(cache=True, fastmath={"contract"}, inline="always")
