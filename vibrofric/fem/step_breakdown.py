@@ -4,8 +4,8 @@ A step's parts are the compiled functions it calls, each timed alone on the
 run's own operators, repeated in a compiled loop (best of several passes):
 
     explicit            the product with K (3x3 node blocks), the DOF vectors
-                        (u + beta v, the central difference), the contact
-                        nodes' normal force and friction law
+                        (u + beta v, the loads less K (u + beta v), the central
+                        difference), the contact nodes' normal force and friction law
     implicit, reduced   the solve with A, the products with M and K, the
                         contact-space product with G (once per iteration)
 
@@ -33,7 +33,7 @@ from ..core import machine
 from ..core.friction import sliding_length
 from ..friction_law.contract import FASTMATH
 from .contact import contact_forces
-from .explicit import central_difference, damped_displacement
+from .explicit import central_difference, damped_displacement, external_less
 from .linalg import SparseLU, apply, bsr, one_blas_thread, solve
 
 
@@ -67,9 +67,10 @@ def _solves(inv, b, out, repeats):
 
 
 @njit(fastmath=FASTMATH)  # not cached (see _products)
-def _vector_updates(u, v, work, force, inverse_mass, beta, dt, repeats):
+def _vector_updates(u, v, work, force, load, inverse_mass, beta, dt, repeats):
     for _ in range(repeats):
         damped_displacement(u, v, beta, work)
+        external_less(load, force)
         central_difference(u, v, force, inverse_mass, dt)
 
 
@@ -103,8 +104,8 @@ def operator_cost(op) -> tuple:
         return entries, 16.0 * entries + 48.0 * op.work.size  # value + column; the vectors
     if isinstance(op, tuple):                                   # bsr: 3x3 blocks
         indptr, columns, data = op
-        n = 3 * (indptr.size - 1)
-        return data.size, data.nbytes + columns.nbytes + indptr.nbytes + 16.0 * n
+        n, entries = 3 * (indptr.size - 1), 9 * columns.size   # (data: the entries and one zero)
+        return entries, 8.0 * entries + columns.nbytes + indptr.nbytes + 16.0 * n
     if op.ndim == 1:                                            # a diagonal
         return op.size, 24.0 * op.size
     rows, cols = op.shape                                       # dense
@@ -122,9 +123,9 @@ def explicit_parts(run) -> list:
 
     u, v, work, force = model.u0.copy(), np.zeros(n), np.empty(n), np.zeros(n)
     beta, dt = model.beta, scene.time.dt
-    vectors = Part("DOF vectors", _seconds(
-        lambda r: _vector_updates(u, v, work, force, model.inverse_mass, beta, dt, r)),
-        3.0 * n, 8.0 * 8 * n)   # 3 multiply-adds a DOF; u, v, work, force, 1/m read or written
+    vectors = Part("DOF vectors", _seconds(lambda r: _vector_updates(
+        u, v, work, force, model.load, model.inverse_mass, beta, dt, r)),
+        4.0 * n, 8.0 * 11 * n)  # 4 operations a DOF; u, v, work, force, load, 1/m: 11 reads or writes
 
     law = scene.friction
     kernel = contact_forces.for_law(law.law)
