@@ -8,13 +8,13 @@ import logging
 import sys
 from pathlib import Path
 
+# Imported here: only what every command needs, and light (no numpy). The scene
+# module (and with it numba), numpy and matplotlib are imported by the commands
+# themselves: ``analytic`` starts its plot process before (plot_worker).
 from . import output
-from . import scene as scene_module
 from .core.errors import NumericalError, Refusal
-from .core.series import PLOT_CYCLES, ROWS_PER_CYCLE, written
 from .output import OutputError
 from .parallel import interruptible
-from .scene import SceneError, refused
 
 EXIT_BAD_INPUT = 2
 EXIT_NUMERICAL = 3
@@ -29,8 +29,24 @@ FAILURES_LISTED = 10     # failed points named on stderr; results.csv has them a
 atexit.register(gc.freeze)
 
 
+class HelpFormatter(argparse.HelpFormatter):
+    """Fills in the written series' constants, named {ROWS_PER_CYCLE} and {PLOT_CYCLES}
+    in a help text, when help is shown: their module (core.series) imports numpy,
+    which a command would otherwise import before it starts (see the imports)."""
+
+    def _get_help_string(self, action):
+        from .core.series import PLOT_CYCLES, ROWS_PER_CYCLE
+
+        return (action.help.replace("{ROWS_PER_CYCLE}", str(ROWS_PER_CYCLE))
+                .replace("{PLOT_CYCLES}", str(PLOT_CYCLES)))
+
+
 class Parser(argparse.ArgumentParser):
-    """argparse with its complaints on one line, exit 2."""
+    """argparse with its complaints on one line, exit 2, and HelpFormatter."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", HelpFormatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: {message} (see {self.prog} --help)\n")
@@ -67,8 +83,8 @@ def _series_argument(parser):
                         help="write every kept row of the time series (every step of the last "
                              "two averaging windows, one every time.series_dt before them; every "
                              "step if time.series_dt = time.dt) instead of the default: a row "
-                             f"every 1/({ROWS_PER_CYCLE} f), rounded down to a multiple of "
-                             f"time.series_dt, and every step of the last {PLOT_CYCLES} cycles")
+                             "every 1/({ROWS_PER_CYCLE} f), rounded down to a multiple of "
+                             "time.series_dt, and every step of the last {PLOT_CYCLES} cycles")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -134,6 +150,8 @@ def _target(args, command: str):
 
 def _check_stepper(scene, stepper: str) -> None:
     """The 1D longitudinal model [23] has the base moving along X only."""
+    from .scene import SceneError
+
     if stepper != "longitudinal":
         return
     if scene.vibrated and scene.vibration.theta_deg % 180.0 != 0.0:
@@ -143,23 +161,28 @@ def _check_stepper(scene, stepper: str) -> None:
 
 
 def cmd_analytic(args) -> None:
-    from . import budget, plots
-    from .analytic.run import run
+    from .plot_worker import PlotProcess, one_blas_thread
 
-    scene = scene_module.load(args.scene, args.overrides)
-    _check_stepper(scene, args.stepper)
-    target, claim = _target(args, "analytic")
-    budget.check([scene], fe=False, out=target or Path("results"), full_series=args.full_series)
-    series, summary = run(scene, args.stepper)
-    series = written(series, scene, args.full_series)  # the summary is of every kept row
-    target = target or output.default_dir(scene.name)
-    with output.staged(target, "analytic", claimed=claim) as stage:
-        output.write_scene(stage, scene)
-        output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
-        output.write_timeseries(stage, series)
-        runs = {args.stepper: series}
-        plots.drive_force_history(runs, scene, stage / "drive_force.png")
-        plots.friction_last_cycles(runs, scene, stage / "friction_last_cycles.png")
+    with PlotProcess() as plotter:  # first: it imports matplotlib while numba loads here
+        with one_blas_thread():  # numpy loads here: no BLAS threads to spin on the other core
+            from . import budget
+            from . import scene as scene_module
+            from .analytic.run import run
+            from .core.series import written
+
+        scene = scene_module.load(args.scene, args.overrides)
+        _check_stepper(scene, args.stepper)
+        target, claim = _target(args, "analytic")
+        budget.check([scene], fe=False, out=target or Path("results"),
+                     full_series=args.full_series)
+        series, summary = run(scene, args.stepper)
+        series = written(series, scene, args.full_series)  # the summary is of every kept row
+        target = target or output.default_dir(scene.name)
+        with output.staged(target, "analytic", claimed=claim) as stage:
+            with plotter.drawing({args.stepper: series}, scene, stage):
+                output.write_scene(stage, scene)
+                output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
+                output.write_timeseries(stage, series)
     _warn_unsettled(summary)
     _emit(args, {**summary, "out": str(target)},
           f"F_dv/F_d0 = {_number(summary['F_dv_over_F_d0'])} (F_dv = {summary['F_dv']:.4f} N, "
@@ -186,6 +209,7 @@ def _progress_bar(args, what: str, total: float):
 
 def cmd_run(args) -> None:
     from . import budget, plots
+    from . import scene as scene_module
     from .picture import block_picture
     from .runs import fe_beside_analytic
 
@@ -219,6 +243,7 @@ def cmd_run(args) -> None:
 
 
 def cmd_sweep(args) -> int:
+    from . import scene as scene_module
     from .batch import run_sweep
     from .grid import parse_grid
 
@@ -273,6 +298,23 @@ def _quiet_libraries() -> None:
         handler.setLevel(logging.WARNING)
 
 
+def _explained(err: Exception):
+    """(message, exit code) for an error the user can act on; None for any other
+    (a bug: its traceback is shown). The scene module is imported here, once
+    an error is raised, not with this module (see the imports above)."""
+    from .scene import SceneError, refused
+
+    if isinstance(err, SceneError):
+        return f"vibrofric: invalid scene: {err}", EXIT_BAD_INPUT
+    if isinstance(err, Refusal):
+        return f"vibrofric: invalid scene: {refused(err)}", EXIT_BAD_INPUT
+    if isinstance(err, OutputError):
+        return f"vibrofric: {err}", EXIT_BAD_INPUT
+    if isinstance(err, NumericalError):
+        return f"vibrofric: numerical trouble: {err}", EXIT_NUMERICAL
+    return None
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     _quiet_libraries()
@@ -282,18 +324,13 @@ def main(argv=None) -> int:
     except KeyboardInterrupt as interrupt:
         print(_interrupted(args.command, str(interrupt)), file=sys.stderr)
         return EXIT_INTERRUPTED
-    except SceneError as err:
-        print(f"vibrofric: invalid scene: {err}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except Refusal as err:
-        print(f"vibrofric: invalid scene: {refused(err)}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except OutputError as err:
-        print(f"vibrofric: {err}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except NumericalError as err:
-        print(f"vibrofric: numerical trouble: {err}", file=sys.stderr)
-        return EXIT_NUMERICAL
+    except Exception as err:
+        explained = _explained(err)
+        if explained is None:
+            raise
+        message, code = explained
+        print(message, file=sys.stderr)
+        return code
 
 
 if __name__ == "__main__":

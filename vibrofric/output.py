@@ -28,8 +28,6 @@ import traceback
 import uuid
 from pathlib import Path
 
-from . import scene as scene_module
-
 MARKER = ".vibrofric"  # in every results directory: {"command": ...}
 
 
@@ -191,6 +189,9 @@ def staged_file(target: Path):
 
 def write_scene(directory: Path, scene) -> None:
     """``scene.toml``: the scene as run, every key; replaced whole if already there."""
+    from . import scene as scene_module  # here: importing the scene module imports numba,
+                                         # which the command's first moments do without (cli)
+
     with staged_file(directory / "scene.toml") as partial:
         partial.write_text(scene_module.to_toml(scene))
 

@@ -1,26 +1,43 @@
-"""PNG plots: the paper's figures for a run and for a sweep."""
+"""PNG plots: the paper's figures for a run and for a sweep.
 
-import matplotlib
+Figures are made on an Agg canvas of their own (matplotlib.figure.Figure), not
+through pyplot: nothing global to close, and importing this module costs
+matplotlib and numpy only (not pyplot, nor the stepper's numba), so that
+plot_worker's process is ready to draw soon after it starts.
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+The two figures of a run read of the scene only ``name``, ``F_c``,
+``vibrated`` and ``vibration.f``, ``.k_v``, ``.theta_deg``, ``.t_on``
+(plot_worker.plotted_scene sends these to its process).
+"""
 
-from .analytic.closed_form import coulomb_ratio  # noqa: E402
-from .core.series import PLOT_CYCLES  # noqa: E402
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from .core.series import PLOT_CYCLES
 
 LIMIT_POINTS = 80  # on the rigid Coulomb limit's curve; each is a 16 ms quadrature
 # Every analytic run draws the two figures of a run, which would otherwise take
 # longer than its stepping: fixed margins instead of tight_layout (a second text
 # layout pass, ~50 ms a figure; these fit tick labels of up to five digits), and
 # PNG compressed at zlib level 1 (~20 ms less a figure, the file ~20% larger).
+# The figure is made at the PNG's resolution, so that saving it lays out no text anew.
 RUN_MARGINS = {"left": 0.12, "right": 0.98, "bottom": 0.14, "top": 0.91}
-RUN_PNG = {"dpi": 120, "pil_kwargs": {"compress_level": 1}}
+RUN_DPI = 120
+RUN_PNG = {"dpi": RUN_DPI, "pil_kwargs": {"compress_level": 1}}
+
+
+def figure(figsize, dpi=None):
+    """(Figure, Axes) on an Agg canvas of their own; dropped, not closed, when done."""
+    fig = Figure(figsize=figsize, dpi=dpi)
+    FigureCanvasAgg(fig)
+    return fig, fig.subplots()
 
 
 def drive_force_figure(runs: dict, scene):
-    """F_d over the whole run (Fig 7 / Fig 10 analogue); ``runs`` maps a label to a TimeSeries."""
-    fig, ax = plt.subplots(figsize=(7, 4))
+    """F_d over the whole run (Fig 7 / Fig 10 analogue); ``runs`` maps a label to
+    a TimeSeries (or anything with ``t`` and ``F_d``)."""
+    fig, ax = figure((7, 4), RUN_DPI)
     for label, series in runs.items():
         ax.plot(series.t, series.F_d, lw=0.8, label=label)
     ax.axhline(scene.F_c, color="k", ls=":", lw=0.8, label=r"$F_c = \mu F_N$")
@@ -36,14 +53,12 @@ def drive_force_figure(runs: dict, scene):
 
 def drive_force_history(runs: dict, scene, path) -> None:
     """drive_force_figure() as PNG."""
-    fig = drive_force_figure(runs, scene)
-    fig.savefig(path, **RUN_PNG)
-    plt.close(fig)
+    drive_force_figure(runs, scene).savefig(path, **RUN_PNG)
 
 
 def friction_last_cycles(runs: dict, scene, path) -> None:
     """F_x and F_y over the last vibration cycles (Fig 8 / Fig 11 analogue)."""
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = figure((7, 4), RUN_DPI)
     duration = PLOT_CYCLES / scene.vibration.f
     for label, series in runs.items():
         tail = series.tail(duration)
@@ -54,7 +69,6 @@ def friction_last_cycles(runs: dict, scene, path) -> None:
     ax.legend(fontsize=8)
     fig.subplots_adjust(**RUN_MARGINS)
     fig.savefig(path, **RUN_PNG)
-    plt.close(fig)
 
 
 def _column(rows: list, key: str) -> np.ndarray:
@@ -69,9 +83,11 @@ def ratio_against_kv(records: list, scene, path, key="F_dv_over_F_d0", fe_key=No
     analytic stepper's ratio, drawn as the curve, and ``fe_key``, if given, the
     FE model's, drawn as markers over it.
     """
+    from .analytic.closed_form import coulomb_ratio  # here: vibrofric.analytic imports numba
+
     k_v = _column(records, "vibration.k_v")
     order = np.argsort(k_v)
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = figure((7, 4))
     ax.plot(k_v[order], _column(records, key)[order], "o-", ms=4, label="Dahl stepper")
     if fe_key is not None:
         ax.plot(k_v[order], _column(records, fe_key)[order], "s", ms=7, mfc="none", mew=1.5,
@@ -84,13 +100,12 @@ def ratio_against_kv(records: list, scene, path, key="F_dv_over_F_d0", fe_key=No
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 def ratio_against_angle(records: list, path, key="F_dv_over_F_d0", fe_key=None) -> None:
     """F_dv/F_d0 against theta, one curve per k_v (Fig 12 analogue); with
     ``fe_key``, the FE model's values as markers of the same colour."""
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = figure((7, 4.5))
     for k_v in sorted({r["vibration.k_v"] for r in records}):
         rows = sorted((r for r in records if r["vibration.k_v"] == k_v),
                       key=lambda r: r["vibration.theta_deg"])
@@ -105,14 +120,13 @@ def ratio_against_angle(records: list, path, key="F_dv_over_F_d0", fe_key=None) 
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 def error_per_point(records: list, keys: list, path) -> None:
     """|FE - analytic| / analytic on F_dv/F_d0 at every point of an FE sweep:
     against the grid's last key, one line per combination of the others."""
     *outer, inner = keys
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = figure((7, 4))
     for group in dict.fromkeys(tuple(r[k] for k in outer) for r in records):
         rows = [r for r in records if tuple(r[k] for k in outer) == group]
         label = ", ".join(f"{k.split('.')[-1]} = {v}" for k, v in zip(outer, group)) or None
@@ -123,12 +137,11 @@ def error_per_point(records: list, keys: list, path) -> None:
         ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
 
 
 def normal_force_history(series, scene, path) -> None:
     """The FE model's summed normal reaction over time: steady at F_N in a sound run."""
-    fig, ax = plt.subplots(figsize=(7, 3.5))
+    fig, ax = figure((7, 3.5))
     ax.plot(series.t, series.extra["F_n"], lw=0.8, label=r"$\sum$ nodal normal force")
     ax.axhline(scene.contact.F_N, color="k", ls=":", lw=0.8, label=r"$F_N$")
     ax.set(xlabel="time t (s)", ylabel="normal reaction (N)",
@@ -136,4 +149,3 @@ def normal_force_history(series, scene, path) -> None:
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)

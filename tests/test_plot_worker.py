@@ -1,0 +1,121 @@
+"""The analytic command's plots, drawn by its plot process (vibrofric/plot_worker.py):
+the same figures as drawn in one process, and a failure on either side fails
+the run, leaves nothing written and no process behind."""
+
+import shutil
+import subprocess
+import sys
+import time
+from types import SimpleNamespace
+
+import pytest
+
+from vibrofric import output, plot_worker, plots
+from vibrofric import scene as scene_module
+from vibrofric.analytic.run import run
+from vibrofric.cli import EXIT_BAD_INPUT, main
+from vibrofric.core.series import written
+
+from conftest import SCENES, child_environment
+
+LONGITUDINAL = str(SCENES / "longitudinal.toml")
+SHORT = ["--set", "time.T=0.2"]
+
+
+@pytest.fixture
+def started(monkeypatch):
+    """The plot processes the command starts, as a list (to check they were reaped)."""
+    processes = []
+
+    class Recorded(plot_worker.PlotProcess):
+        def __init__(self):
+            super().__init__()
+            processes.append(self.process)
+
+    monkeypatch.setattr(plot_worker, "PlotProcess", Recorded)
+    return processes
+
+
+def test_plots_are_those_drawn_in_one_process(tmp_path, started):
+    out = tmp_path / "run"
+    assert main(["analytic", LONGITUDINAL, *SHORT, "--out", str(out)]) == 0
+    assert len(started) == 1 and started[0].returncode == 0
+    scene = scene_module.load(LONGITUDINAL, ["time.T=0.2"])
+    runs = {"coupled": written(run(scene)[0], scene)}
+    plots.drive_force_history(runs, scene, tmp_path / "drive_force.png")
+    plots.friction_last_cycles(runs, scene, tmp_path / "friction_last_cycles.png")
+    for name in ("drive_force.png", "friction_last_cycles.png"):
+        assert (out / name).read_bytes() == (tmp_path / name).read_bytes(), name
+
+
+def test_a_plot_failure_fails_the_run_and_leaves_nothing(tmp_path, monkeypatch, started):
+    """The plot process fails (here: a scene without the values the plots read):
+    PlotError with its traceback, no results directory, no stage."""
+    monkeypatch.setattr(plot_worker, "plotted_scene", lambda scene: SimpleNamespace(name="bare"))
+    with pytest.raises(plot_worker.PlotError, match="AttributeError.*F_c"):
+        main(["analytic", LONGITUDINAL, *SHORT, "--out", str(tmp_path / "run")])
+    assert started[0].returncode == 1
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_plot_process_that_fails_to_start_fails_the_run(tmp_path, monkeypatch, started):
+    """It dies before it reads the rows (here: a matplotlib that cannot be imported):
+    the rows are not its to read, and its traceback is the run's error."""
+    broken = tmp_path / "broken" / "matplotlib"
+    broken.mkdir(parents=True)
+    (broken / "__init__.py").write_text("raise ImportError('no matplotlib here')\n")
+    monkeypatch.setenv("PYTHONPATH", str(broken.parent))
+    with pytest.raises(plot_worker.PlotError, match="ImportError: no matplotlib here"):
+        main(["analytic", LONGITUDINAL, *SHORT, "--out", str(tmp_path / "run")])
+    assert started[0].returncode == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["broken"]
+
+
+def test_a_failure_while_it_draws_ends_it_before_the_stage_goes(tmp_path, monkeypatch, started):
+    """The command fails after sending the rows: the plot process is ended and
+    reaped before the stage is removed, so it writes no PNG into a removed stage."""
+    def disk_full(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    removed_with_it = []  # at each removal of the stage: the plot process's exit code
+    remove_tree = shutil.rmtree
+
+    def rmtree(path, **kwargs):
+        removed_with_it.append(started[0].poll())
+        remove_tree(path, **kwargs)
+
+    monkeypatch.setattr(output, "write_timeseries", disk_full)
+    monkeypatch.setattr(shutil, "rmtree", rmtree)
+    with pytest.raises(OSError, match="No space left"):
+        main(["analytic", LONGITUDINAL, *SHORT, "--out", str(tmp_path / "run")])
+    assert removed_with_it and None not in removed_with_it
+    time.sleep(0.5)  # what a plot process left running would write by now
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_run_refused_before_its_plots_ends_the_plot_process(tmp_path, capsys, started):
+    code = main(["analytic", LONGITUDINAL, "--set", "body.mass=-1", "--out", str(tmp_path / "no")])
+    assert code == EXIT_BAD_INPUT and "body.mass" in capsys.readouterr().err
+    assert started[0].returncode is not None
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_plot_process_ends_quietly_when_no_rows_come(tmp_path):
+    """Its command stopped early or died: the process's input closes without rows."""
+    child = subprocess.run([sys.executable, "-P", "-m", "vibrofric.plot_worker"],
+                           stdin=subprocess.DEVNULL, capture_output=True, cwd=tmp_path,
+                           env=child_environment(), timeout=120)
+    assert (child.returncode, child.stdout, child.stderr) == (0, b"", b"")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_plot_process_imports_matplotlib_not_numba(tmp_path):
+    """What makes it ready before the stepping ends: it imports no numba, nor the FE stack."""
+    child = subprocess.run(
+        [sys.executable, "-c", "import sys; from vibrofric import plot_worker, plots; "
+                               "plot_worker.warm_up(plots); print(' '.join(sys.modules))"],
+        capture_output=True, text=True, cwd=tmp_path, env=child_environment(), timeout=120)
+    assert child.returncode == 0, child.stderr
+    loaded = {name.split(".")[0] for name in child.stdout.split()}
+    assert "matplotlib" in loaded
+    assert loaded.isdisjoint({"numba", "llvmlite", "scipy", "dolfinx", "mpi4py", "gmsh"})

@@ -1,0 +1,186 @@
+"""The analytic command's two plots, drawn by a second process while the stepper loads and runs.
+
+Drawn in the command's own process, after the stepping, the plots cost it
+~0.33 s of a ~0.75 s command: matplotlib imported (~0.19 s), then the two
+figures drawn (~0.14 s). ``vibrofric analytic`` therefore starts this module
+as a child process first thing, before it imports numpy. On the other core
+the child imports matplotlib and draws a throwaway figure (the fonts loaded,
+the mathtext parser built) while the command loads its compiled stepper and
+steps; then it receives the rows the two plots draw (t and F_d of the written
+series, and the rows of its last cycles: ~0.6 MB for the 1 s longitudinal
+scene, not the whole 2.2 MB series) and draws them into the results' stage
+while the command writes timeseries.csv:
+
+    with PlotProcess() as plotter:                      # started: importing matplotlib
+        ...                                             # scene, stepper, stepping
+        with output.staged(target) as stage:
+            with plotter.drawing(runs, scene, stage):   # the rows sent: it draws
+                ...                                     # scene.toml, summary.json, the CSV
+            # here it has finished; had it failed: PlotError
+
+A failure on either side fails the run and leaves nothing. The child's is
+raised as PlotError (with its traceback) when ``drawing`` ends, inside the
+staged block, so the stage is removed. The command's ends the child
+(SIGKILL) and reaps it before the stage is removed, so nothing is written
+into a removed stage. The child runs in a session of its own, which Ctrl-C
+in the terminal does not reach (the command ends it), and ends by itself when
+its input closes without rows: the command stopped early, or died.
+"""
+
+import contextlib
+import os
+import pickle
+import subprocess
+import sys
+from pathlib import Path
+from types import SimpleNamespace
+
+DRIVE_FORCE = "drive_force.png"
+LAST_CYCLES = "friction_last_cycles.png"
+PACKAGE_ROOT = Path(__file__).resolve().parent.parent  # the directory that holds vibrofric
+# OpenBLAS, loaded with numpy, starts a thread per further core, which spins a while
+# waiting for work. Neither process gives it any, and each needs the other's core
+# (measured: the plot process took 0.25 s of system CPU with it, 0.03 s without).
+ONE_BLAS_THREAD = {"OPENBLAS_NUM_THREADS": "1"}
+
+
+class PlotError(RuntimeError):
+    """The plot process failed; the message holds its traceback."""
+
+
+class PlotProcess:
+    """The child process that draws a run's two plots (a context manager: the child
+    is started on entry, and ended, if still running, and reaped on exit)."""
+
+    def __init__(self):
+        # -P and PYTHONPATH: the child imports this very package, not one from its
+        # working directory
+        path = os.pathsep.join(filter(None, [str(PACKAGE_ROOT), os.environ.get("PYTHONPATH")]))
+        self.process = subprocess.Popen(
+            [sys.executable, "-P", "-m", __name__], stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE, env={**os.environ, "PYTHONPATH": path, **ONE_BLAS_THREAD},
+            start_new_session=True)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *failure):
+        self.stop()
+
+    def stop(self) -> None:
+        """End the child if it is still running, and reap it."""
+        if self.process.poll() is None:
+            self.process.kill()
+        self.process.wait()
+        with contextlib.suppress(BrokenPipeError):  # the rest of a job it never read
+            self.process.stdin.close()
+        self.process.stdout.close()
+
+    @contextlib.contextmanager
+    def drawing(self, runs: dict, scene, directory: Path):
+        """Send the rows of ``runs`` (a label to a TimeSeries) that the plots draw;
+        the child draws them into ``directory`` while the block runs. At the
+        block's end wait for the child: PlotError if it failed. If anything
+        fails before, the child is ended and reaped first."""
+        job = {"directory": Path(directory).absolute(), "scene": plotted_scene(scene),
+               **plotted_rows(runs, scene)}
+        try:
+            self._send(job)
+            yield
+            report = self.process.stdout.read()  # what it says, if it fails
+            failed = self.process.wait() != 0
+        except BaseException:
+            self.stop()
+            raise
+        if failed:
+            raise PlotError(f"the plot process failed (exit {self.process.returncode}):\n"
+                            f"{report.decode(errors='replace').rstrip()}")
+
+    def _send(self, job: dict) -> None:
+        """Write ``job`` to the child and close its input. A child that failed reads
+        its input to the end before it exits, so that this never writes into a
+        closed pipe: SIGPIPE, which Python ignores, kills the process once a
+        library has reset it (importing dolfinx does); one killed from outside
+        has closed its end (its exit, read after, says so)."""
+        with contextlib.suppress(BrokenPipeError):
+            with self.process.stdin:
+                pickle.dump(job, self.process.stdin, protocol=pickle.HIGHEST_PROTOCOL)
+
+
+@contextlib.contextmanager
+def one_blas_thread():
+    """Within: numpy, imported here for the first time, starts OpenBLAS without
+    threads of its own (ONE_BLAS_THREAD), unless the user's environment says
+    otherwise; the environment is restored after."""
+    added = {name: value for name, value in ONE_BLAS_THREAD.items() if name not in os.environ}
+    os.environ.update(added)
+    try:
+        yield
+    finally:
+        for name in added:
+            os.environ.pop(name, None)
+
+
+def plotted_scene(scene) -> SimpleNamespace:
+    """The scene's values the run plots read (see plots), as plain values: a Scene
+    holds its friction law's module, and unpickled would import numba."""
+    vibration = scene.vibration
+    return SimpleNamespace(
+        name=scene.name, F_c=scene.F_c, vibrated=scene.vibrated,
+        vibration=SimpleNamespace(f=vibration.f, k_v=vibration.k_v,
+                                  theta_deg=vibration.theta_deg, t_on=vibration.t_on))
+
+
+def plotted_rows(runs: dict, scene) -> dict:
+    """What each plot draws of every run: t and F_d of every row (drive_force.png),
+    and the rows of the last PLOT_CYCLES cycles (friction_last_cycles.png)."""
+    from .core.series import PLOT_CYCLES
+
+    return {"whole": {label: SimpleNamespace(t=series.t, F_d=series.F_d)
+                      for label, series in runs.items()},
+            "last_cycles": {label: series.tail(PLOT_CYCLES / scene.vibration.f)
+                            for label, series in runs.items()}}
+
+
+def warm_up(plots) -> None:
+    """Draw a small throwaway figure with the kinds of text of the run plots
+    (mathtext, a legend, tick labels): the fonts load and the mathtext parser
+    is built while the command still steps, not after it."""
+    fig, ax = plots.figure((2, 1), plots.RUN_DPI)
+    ax.plot([0.0, 1.0], [0.0, 1.0], label="$F_x$")
+    ax.set_title(r"$k_v$ = 1, $\theta$ = 0°, $\mu F_N$")
+    ax.legend(fontsize=8)
+    fig.canvas.draw()
+
+
+def serve() -> None:
+    """The child: import matplotlib, warm up, then draw the job the command sends
+    on stdin; nothing to draw if stdin closes first."""
+    from . import plots
+
+    warm_up(plots)
+    try:
+        job = pickle.load(sys.stdin.buffer)
+    except EOFError:
+        return
+    directory = job["directory"]
+    plots.drive_force_history(job["whole"], job["scene"], directory / DRIVE_FORCE)
+    plots.friction_last_cycles(job["last_cycles"], job["scene"], directory / LAST_CYCLES)
+
+
+if __name__ == "__main__":
+    code = 0
+    try:
+        serve()
+    except BaseException:  # reported to the command through stdout, which it reads
+        import traceback
+
+        sys.stdout.write(traceback.format_exc())
+        sys.stdout.flush()
+        sys.stdin.buffer.read()  # what the command still sends (PlotProcess._send)
+        code = 1
+    sys.stdout.flush()
+    sys.stderr.flush()
+    # Like multiprocessing's workers, end without the interpreter's teardown of all of
+    # matplotlib's objects (~60 ms the command would wait for); the PNGs are closed.
+    os._exit(code)
