@@ -47,6 +47,12 @@ class _Double4Model(models.PrimitiveModel):
         super().__init__(dmm, fe_type, _DOUBLE4)
 
 
+def _doubles_at(array, index) -> bool:
+    """Whether (array, index) type as a C-contiguous float64 array and an integer."""
+    return (isinstance(array, types.Array) and array.dtype == types.float64
+            and array.layout == "C" and isinstance(index, types.Integer))
+
+
 def _address(context, builder, array_type, array, index):
     """The address of array[index] (a C-contiguous array), as a pointer to four doubles."""
     data = context.make_array(array_type)(context, builder, array).data
@@ -62,8 +68,7 @@ def zeros(typingctx):
 
 @intrinsic
 def load(typingctx, array, index):
-    if not (isinstance(array, types.Array) and array.dtype == types.float64
-            and array.layout == "C" and isinstance(index, types.Integer)):
+    if not _doubles_at(array, index):
         return None
 
     def codegen(context, builder, signature, args):
@@ -74,8 +79,7 @@ def load(typingctx, array, index):
 
 @intrinsic
 def load3(typingctx, array, index):
-    if not (isinstance(array, types.Array) and array.dtype == types.float64
-            and array.layout == "C" and isinstance(index, types.Integer)):
+    if not _doubles_at(array, index):
         return None
 
     def codegen(context, builder, signature, args):
