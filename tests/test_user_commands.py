@@ -132,6 +132,27 @@ def test_default_names_never_collide(home, monkeypatch):
     assert len(names) == 3 and all(name.is_dir() for name in names)
 
 
+
+def test_a_claimed_name_stays_claimed_while_its_results_move_in(tmp_path, monkeypatch):
+    """Another run finishing in the same second, asking for a default name just as
+    this one's stage takes its claimed directory, gets a name of its own."""
+    monkeypatch.chdir(tmp_path)
+    second = output.datetime.datetime(2026, 1, 1, 12, 0, 0)  # every name taken within one second
+    monkeypatch.setattr(output.datetime, "datetime", type("Clock", (), {"now": lambda: second}))
+    mine, others = output.default_dir("x"), []
+    rename = Path.rename
+
+    def rename_while_another_run_claims(self, target):
+        if Path(target) == mine:
+            others.append(output.default_dir("x"))
+        return rename(self, target)
+
+    monkeypatch.setattr(Path, "rename", rename_while_another_run_claims)
+    with output.staged(mine, "analytic", claimed=True) as stage:
+        (stage / "summary.json").write_text("{}")
+    assert others == [mine.with_name(mine.name + "-2")]
+    assert (mine / "summary.json").exists() and not any(others[0].iterdir())
+
 def wait_for_frames(process, home: Path, frames: int, timeout: float = 300) -> None:
     """Wait until the run's staging directory holds ``frames`` ParaView frames:
     its FE time loop is under way."""
