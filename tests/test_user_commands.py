@@ -132,7 +132,6 @@ def test_default_names_never_collide(home, monkeypatch):
     assert len(names) == 3 and all(name.is_dir() for name in names)
 
 
-
 def test_a_claimed_name_stays_claimed_while_its_results_move_in(tmp_path, monkeypatch):
     """Another run finishing in the same second, asking for a default name just as
     this one's stage takes its claimed directory, gets a name of its own."""
@@ -152,6 +151,7 @@ def test_a_claimed_name_stays_claimed_while_its_results_move_in(tmp_path, monkey
         (stage / "summary.json").write_text("{}")
     assert others == [mine.with_name(mine.name + "-2")]
     assert (mine / "summary.json").exists() and not any(others[0].iterdir())
+
 
 def wait_for_frames(process, home: Path, frames: int, timeout: float = 300) -> None:
     """Wait until the run's staging directory holds ``frames`` ParaView frames:

@@ -160,10 +160,10 @@ def staged(target: Path, command: str | None = None, claimed: bool = False):
             with contextlib.suppress(OSError):
                 target.rmdir()  # only if still empty
         raise
-    if target.exists() and not claimed:
-        remove(target)  # earlier results (--force), or an empty directory of the user's
-    # rename(2) replaces an empty directory in one step: a claimed name is never free
-    # for another run's default_dir() to claim while this one moves in.
+    if target.exists() and any(target.iterdir()):
+        remove(target)  # earlier results (--force)
+    # rename(2) replaces an empty directory in one step: a name default_dir() claimed
+    # is never free for another run to claim while this one's results move in.
     stage.rename(target)
 
 
