@@ -7,6 +7,7 @@ value is checked before any work: a bad one raises ``SceneError`` naming it.
 """
 
 import dataclasses
+import difflib
 import functools
 import math
 import tomllib
@@ -18,7 +19,7 @@ import tomli_w
 
 from .core import errors
 from .friction_law import ContactLaw, LawError, ParameterError, load_law
-from .friction_law.contract import is_law_file
+from .friction_law.contract import BUILT_IN, is_law_file
 from .meshes import level_counts
 
 
@@ -58,19 +59,37 @@ class Body:
 
 @dataclass(frozen=True)
 class Contact:
-    """The contact: its friction law and normal load; every other key of [contact] is
-    a parameter of the law (friction_law/contract.py), readable as ``contact.<name>``."""
+    """The contact: its friction law and normal load, and the law's parameters.
+
+    The law's parameters come from two places in [contact]:
+
+        [contact]            keys every law of the scene shares (k_t, mu): each must be a
+                             parameter of the chosen law
+        [contact.<law>]      keys for one law only (``law_key``: dahl, lugre, or a law
+                             file's stem), applied only while that law is chosen, over
+                             [contact]'s value of the same key
+
+    so ``--set contact.law=...`` switches the law of any scene: the other laws' tables
+    stay unapplied, and a typo is refused either way. Each parameter is readable as
+    ``contact.<name>`` (friction_law/contract.py).
+    """
 
     law: str = "dahl"                      # "dahl" | "lugre" | a law file (.py; relative to the
                                            # scene file) | an importable module
     F_N: float = 55.0                      # N, total normal reaction
     eta_y: float = 0.71                    # transverse vibration transfer coefficient (eq 30)
-    parameters: dict = field(default_factory=dict)  # the law's parameters the scene sets
+    parameters: dict = field(default_factory=dict)  # [contact]'s law parameters
+    tables: dict = field(default_factory=dict)      # {law_key: {parameter: value}}
+
+    @property
+    def given(self) -> dict:
+        """The parameters the scene sets for its chosen law: [contact]'s and its own table's."""
+        return {**self.parameters, **self.tables.get(law_key(self.law), {})}
 
     @property
     def law_values(self) -> dict:
         """Every parameter of the law: those the scene sets, the law's defaults for the rest."""
-        return load_law(self.law).values(self.parameters)
+        return load_law(self.law).values(self.given)
 
     def __getattr__(self, name):
         if name.startswith("__") or "parameters" not in self.__dict__:
@@ -79,6 +98,14 @@ class Contact:
         if name in values:
             return values[name]
         raise AttributeError(f"the contact has no {name!r}: not a parameter of its law")
+
+
+def law_key(name: str) -> str:
+    """The name of a law's own table [contact.<key>]: a built-in's name, a law file's
+    stem, an importable module's last part."""
+    if is_law_file(name):
+        return Path(name).stem
+    return name.rpartition(".")[2]
 
 
 CONTACT_KEYS = ("law", "F_N", "eta_y")     # the model's keys in [contact]; the rest are the law's
@@ -166,7 +193,7 @@ class Scene:
         """The contact's friction law with its parameter values (friction_law.ContactLaw)."""
         c = self.contact
         law = load_law(c.law)
-        return ContactLaw(law, law.values(c.parameters), c.F_N)
+        return ContactLaw(law, law.values(c.given), c.F_N)
 
     @property
     def law_bounds(self):
@@ -226,44 +253,63 @@ class Scene:
 
     def get(self, key: str):
         section, name = _split_key(key)
+        if "." in name:  # contact.<law>.<parameter>: that law's table
+            law, name = name.split(".")
+            return self.contact.tables.get(law, {}).get(name)
         return getattr(getattr(self, section), name)
 
     def with_values(self, values: dict) -> "Scene":
         """A copy with ``{"section.key": value}`` set and checked."""
         raw = to_dict(self)
         for key, value in values.items():
-            section, name = _split_key(key)
-            raw.setdefault(section, {})[name] = value
+            _assign(raw, key, value)
         return from_dict(raw, self.name)
 
     def with_law(self, law: str, parameters: dict | None = None) -> "Scene":
-        """A copy with another friction law: ``parameters`` set, and the present law's
-        parameters kept where the new law has them (k_t, mu, ...)."""
-        try:
-            known = load_law(law).parameters
-        except LawError as err:
-            raise SceneError("contact.law", str(err)) from None
+        """A copy with another friction law and ``parameters`` for it in its own table;
+        [contact]'s shared keys stay (each must be a parameter of the new law)."""
         raw = to_dict(self)
-        contact = raw["contact"]
-        kept = {key: value for key, value in contact.items()
-                if key in known and key not in CONTACT_KEYS}
-        raw["contact"] = {**{key: contact[key] for key in CONTACT_KEYS}, **kept, "law": law,
-                          **(parameters or {})}
+        raw["contact"]["law"] = law
+        if parameters:
+            raw["contact"][law_key(law)] = {**raw["contact"].get(law_key(law), {}), **parameters}
         return from_dict(raw, self.name)
 
 
 def _split_key(key: str):
     """(section, name) of a scene key; a [contact] key other than CONTACT_KEYS is a law
-    parameter, checked against the law when the scene is built (_contact)."""
+    parameter (``contact.<name>``, or ``contact.<law>.<name>`` in a law's own table),
+    checked against the law when the scene is built (_contact)."""
     section, _, name = key.partition(".")
     if section not in SECTIONS:
         raise SceneError(key, f"unknown section [{section}]; known: {', '.join(SECTIONS)}")
-    if section == "contact" and name.isidentifier() and name != "parameters":
+    if section == "contact" and all(part.isidentifier() for part in name.split(".")) \
+            and name.count(".") <= 1 and name not in ("parameters", "tables"):
         return section, name
     if name not in {f.name for f in fields(SECTIONS[section])}:
-        known = ", ".join(f.name for f in fields(SECTIONS[section]))
+        known = ", ".join(f.name for f in fields(SECTIONS[section]) if f.name != "tables")
         raise SceneError(key, f"unknown key in [{section}]; known: {known}")
     return section, name
+
+
+def _assign(raw: dict, key: str, value) -> None:
+    """Set ``section.key`` (or ``contact.<law>.<key>``) in the nested ``raw``. A law
+    parameter that the chosen law's own table holds is set there: ``contact.update``
+    changes the update of the law that runs."""
+    section, name = _split_key(key)
+    table = raw.setdefault(section, {})
+    if "." in name:
+        law, name = name.split(".")
+    elif section == "contact" and name not in CONTACT_KEYS:
+        law = law_key(table.get("law", Contact.law))
+        if name not in (table.get(law) if isinstance(table.get(law), dict) else {}):
+            law = None
+    else:
+        law = None
+    if law is not None:
+        table = table.setdefault(law, {})
+        if not isinstance(table, dict):
+            raise SceneError(key, f"contact.{law} is a value, not a law's table")
+    table[name] = value
 
 
 def _check_type(key: str, value, annotation):
@@ -319,22 +365,66 @@ def from_dict(raw: dict, name: str = "scene") -> Scene:
 
 
 def _contact(values: dict) -> Contact:
-    """[contact]: the model's keys, then the law's parameters checked against its declaration."""
+    """[contact]: the model's keys, then the law's parameters checked against its declaration:
+    [contact]'s shared keys and the chosen law's table against the chosen law, every
+    built-in law's table against that law (a typo is refused whichever law runs)."""
     hints = typing.get_type_hints(Contact)
     own = {key: _check_type(f"contact.{key}", values[key], hints[key])
            for key in CONTACT_KEYS if key in values}
     law_name = own.get("law", Contact.law)
+    law = _loaded(law_name)
+    chosen = law_key(law_name)
+    tables = {key: value for key, value in values.items() if isinstance(value, dict)}
+    shared = {key: value for key, value in values.items()
+              if key not in CONTACT_KEYS and key not in tables}
+    for name, table in tables.items():
+        _check_table(name, table, chosen)
+    given = {**shared, **tables.get(chosen, {})}
     try:
-        law = load_law(law_name)
+        checked = law.values(given)
+        law.check(ContactLaw(law, checked, own.get("F_N", Contact.F_N)).p)
+    except ParameterError as err:
+        where = f"{chosen}.{err.name}" if err.name in tables.get(chosen, {}) else err.name
+        raise SceneError(f"contact.{where}", str(err)) from None
+    stored = {name: {key: _as_law_value(value) for key, value in table.items()}
+              for name, table in tables.items()}
+    if chosen in tables:
+        stored[chosen] = {key: checked[key] for key in tables[chosen]}
+    return Contact(**own, parameters={key: checked[key] for key in shared}, tables=stored)
+
+
+def _as_law_value(value):
+    """A law parameter not checked yet (another law's table): a number as a float."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return float(value)
+    return value
+
+
+def _loaded(name: str):
+    try:
+        return load_law(name)
     except LawError as err:
         raise SceneError("contact.law", str(err)) from None
-    given = {key: value for key, value in values.items() if key not in CONTACT_KEYS}
-    try:
-        values = law.values(given)
-        law.check(ContactLaw(law, values, own.get("F_N", Contact.F_N)).p)
-    except ParameterError as err:
-        raise SceneError(f"contact.{err.name}", str(err)) from None
-    return Contact(**own, parameters={key: values[key] for key in given})
+
+
+def _check_table(name: str, table: dict, chosen: str) -> None:
+    """A law's own table: a built-in law's checked against it; another law's (a law file
+    not chosen now) checked when that law runs; a likely misspelling refused."""
+    for key in table:
+        if isinstance(table[key], dict):
+            raise SceneError(f"contact.{name}.{key}", "a law's table holds values, not tables")
+    if name in BUILT_IN and name != chosen:
+        try:
+            load_law(name).values(table)
+        except ParameterError as err:
+            raise SceneError(f"contact.{name}.{err.name}", str(err)) from None
+        return
+    if name == chosen or name in BUILT_IN:
+        return
+    close = difflib.get_close_matches(name, [*BUILT_IN, chosen], n=1, cutoff=0.75)
+    if close:
+        raise SceneError(f"contact.{name}", f"no friction law {name!r} (did you mean "
+                                            f"[contact.{close[0]}]?)")
 
 
 def _law_path(value, base: Path):
@@ -390,9 +480,8 @@ def load(path, overrides=()) -> Scene:
         raw["contact"]["law"] = _law_path(raw["contact"]["law"], path.resolve().parent)
     for text in overrides:
         key, value = parse_assignment(text)
-        section, name = key.split(".")
         # ... and on the command line, relative to the current directory
-        raw.setdefault(section, {})[name] = _law_path(value, Path.cwd()) if key == "contact.law" else value
+        _assign(raw, key, _law_path(value, Path.cwd()) if key == "contact.law" else value)
     return from_dict(raw, path.stem)
 
 
@@ -419,6 +508,7 @@ def to_dict(scene: Scene) -> dict:
         values = dataclasses.asdict(getattr(scene, section))
         if section == "contact":
             values.update(values.pop("parameters"))
+            values.update(values.pop("tables"))
         out[section] = {k: (list(v) if isinstance(v, tuple) else v)
                         for k, v in values.items() if v is not None}
     return out

@@ -3,8 +3,34 @@
 One contact node carries one asperity MN: its free end M sits on the base, its
 body end N' moves with the body. The state is the deformation vector
 d = N' - M, kept as its length s = |d| and direction e = d / s (the paper's
-Table 1 carries the same as s and the angle beta): a node's state is
-(s, e_x, e_y). The friction force is F = k s e (eq 1, eqs 38-39).
+Table 1 carries the same as s and the angle beta), and the sliding length
+s_c = F_c / k of the node's previous step: a node's state is
+(s, e_x, e_y, s_c). The friction force is F = k s e (eq 1, eqs 38-39).
+
+A changing normal force (``normal_change``; the contract's rule). The paper's
+lumped body has a constant F_N; an FE contact node's normal force changes every
+step as the block rocks, and with it its sliding length s_c = mu N / k. Before
+a step's two phases the asperity is brought to the step's own s_c by one of
+
+    "return"  |s| <= s_lim: an asperity longer than the step's sliding limit
+              returns to it at once (the radial return of computational
+              contact: Simo and Laursen 1992; Wriggers, Computational Contact
+              Mechanics, 2006, ch. 5). Coulomb's inequality |F| <= mu N then
+              holds at every step at the step's own N: the junctions cannot
+              hold more than mu N, and slip at once when N drops. A rising N
+              leaves the asperity as it is (pressing harder does not load it
+              tangentially). The default.
+    "keep"    the asperity keeps its length; one longer than the new limit
+              relaxes only with further slip (Dahl's equation past its limit),
+              so |F| may exceed mu N for a while. The rule before the
+              contract stated one; kept to compare with.
+    "scale"   the asperity keeps its length relative to the sliding length,
+              s -> s s_c(N) / s_c(N_prev): F = mu N z with z = s / s_c carried
+              (the normalized state of LuGre-type bristle models); the force
+              follows N both ways, without slip.
+
+N <= 0 (out of contact) releases the asperity under every rule: s = 0, the
+force 0; a node coming back into contact starts from rest.
 
 Each phase of a step (phase 1: the body end moves by the slip, eqs 18-22;
 phase 2: the free end moves with the base, eqs 28-35) first stretches the
@@ -22,6 +48,8 @@ from .contract import FASTMATH, Parameter
 PAPER = 0  # explicit Euler update, as the paper (eqs 18, 31)
 EXACT = 1  # the exact solution for a constant slip rate over the step
 UPDATES = ("paper", "exact")   # the choices of contact.update, in code order
+RETURN, KEEP, SCALE = 0, 1, 2
+NORMAL_CHANGES = ("return", "keep", "scale")  # the choices of contact.normal_change, in code order
 
 # The parameters both asperity laws take, in the order of their params array.
 PARAMETERS = {
@@ -31,7 +59,13 @@ PARAMETERS = {
     "update": Parameter("exact", choices=UPDATES,
                         doc="\"exact\" for a constant slip rate over the step, or the paper's "
                             "explicit \"paper\" (eq 18)"),
+    "normal_change": Parameter("return", choices=NORMAL_CHANGES,
+                               doc="what the asperity does when the node's normal force changes: "
+                                   "\"return\" to the step's Coulomb limit (|F| <= mu N at every "
+                                   "step), \"keep\" its length, or \"scale\" with the limit"),
 }
+STATE_SIZE = 4                       # (s, e_x, e_y, s_c of the previous step)
+INITIAL_STATE = (0.0, 1.0, 0.0, 0.0)  # at rest; before any motion the direction is X
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
@@ -44,6 +78,27 @@ def trial(s, ex, ey, trial_x, trial_y):
         ex = trial_x * inverse
         ey = trial_y * inverse
     return length, ex, ey
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+def to_normal_force(s, s_previous, s_now, reach, rule):
+    """The asperity length s carried into a step whose sliding length is s_now (the
+    previous step's: s_previous), by the rule ``normal_change`` (module docstring).
+
+    ``reach`` is the largest length the law holds in units of the sliding length (Dahl 1;
+    LuGre max(1, F_s / F_c)). "return" takes off what the limit dropped by, down to the
+    new limit: an asperity within its old limit lands within the new one, and the
+    paper's explicit update keeps any overshoot of its own (its divergence stays
+    visible); a limit that held or rose changes nothing.
+    """
+    if rule == RETURN:
+        limit, drop = reach * s_now, reach * (s_previous - s_now)
+        if drop > 0.0 and s > limit:
+            return max(limit, s - drop)
+        return s
+    if rule == SCALE and s_previous > 0.0:
+        return s * (s_now / s_previous)
+    return s
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -87,5 +142,5 @@ def relax_length(s, stretch, s_limit, exponent, update):
 
 
 def deformation(states):
-    """(n, 2): the deformation vectors d = s e of states (n, 3) = (s, e_x, e_y)."""
+    """(n, 2): the deformation vectors d = s e of states (n, 4) = (s, e_x, e_y, s_c)."""
     return states[:, :1] * states[:, 1:3]

@@ -14,19 +14,19 @@ import math
 from numba import njit
 
 from . import asperity
-from .asperity import UPDATES, relax_length, trial
+from .asperity import NORMAL_CHANGES, UPDATES, relax_length, to_normal_force, trial
 from .contract import FASTMATH, Bounds, Parameter
 
 PARAMETERS = {
-    **asperity.PARAMETERS,   # k_t, mu, update
+    **asperity.PARAMETERS,   # k_t, mu, update, normal_change
     "F_s": Parameter(None, "N", low=0.0, doc="stiction force of the whole contact; default mu F_N"),
     "v_s": Parameter(1e-3, "m/s", low=0.0, low_open=True, doc="Stribeck velocity"),
     "h_t": Parameter(0.0, "N s/m", low=0.0, doc="contact damping of the whole contact"),
     "h_v": Parameter(0.0, "N s/m", low=0.0, doc="viscous damping of the whole contact"),
 }
 deformation = asperity.deformation  # the contract's ParaView field: s e
-STATE_SIZE = 3
-INITIAL_STATE = (0.0, 1.0, 0.0)
+STATE_SIZE = asperity.STATE_SIZE        # (s, e_x, e_y, s_c): length, direction, last s_c
+INITIAL_STATE = asperity.INITIAL_STATE
 ORDER = 1
 
 
@@ -51,14 +51,17 @@ def _phase(s, ex, ey, trial_x, trial_y, s_c, s_s, v_s, scheme, dt):
 def update(slip_x, slip_y, free_x, free_y, normal_force, area_share, state, params, dt):
     stiffness = params[0] * area_share
     mu, scheme, mu_s, v_s = params[1], params[2], params[3], params[4]
-    h_t, h_v = params[5] * area_share, params[6] * area_share
+    h_t, h_v, rule = params[5] * area_share, params[6] * area_share, params[7]
     if normal_force <= 0.0 or mu <= 0.0 or stiffness <= 0.0:
         state[0] = 0.0
+        state[3] = 0.0
         return 0.0, 0.0
     compliance = 1.0 / stiffness
     s_c = mu * normal_force * compliance
     s_s = mu_s * normal_force * compliance
-    s0 = s = state[0]
+    # The step's own normal force (contract): the Stribeck curve g(v_r) / k reaches at
+    # most max(s_c, s_s) = max(1, F_s / F_c) s_c.
+    s0 = s = to_normal_force(state[0], state[3], s_c, max(1.0, mu_s / mu), rule)
     ex, ey = state[1], state[2]
     if slip_x != 0.0 or slip_y != 0.0:
         s, ex, ey, _ = _phase(s, ex, ey, s * ex + slip_x, s * ey + slip_y, s_c, s_s, v_s, scheme, dt)
@@ -66,7 +69,7 @@ def update(slip_x, slip_y, free_x, free_y, normal_force, area_share, state, para
     if free_x != 0.0 or free_y != 0.0:
         s, ex, ey, trial_length = _phase(s, ex, ey, s * ex - free_x, s * ey - free_y,
                                          s_c, s_s, v_s, scheme, dt)
-    state[0], state[1], state[2] = s, ex, ey
+    state[0], state[1], state[2], state[3] = s, ex, ey, s_c
     # eqs 46-47: contact damping on ds/dt and viscous damping on
     # v_r = (|N'_1 M'_2| - s) / dt, both over the whole step.
     force = stiffness * s
@@ -83,7 +86,8 @@ def _stiction(p):
 
 
 def compiled_parameters(p):
-    return (p.k_t, p.mu, float(UPDATES.index(p.update)), _stiction(p) / p.F_N, p.v_s, p.h_t, p.h_v)
+    return (p.k_t, p.mu, float(UPDATES.index(p.update)), _stiction(p) / p.F_N, p.v_s, p.h_t, p.h_v,
+            float(NORMAL_CHANGES.index(p.normal_change)))
 
 
 def bounds(p, dt):
