@@ -21,6 +21,7 @@ writes every number as JSON. docs/friction-laws.md holds a measured copy.
 
 import argparse
 import json
+import math
 import sys
 import time
 from pathlib import Path
@@ -33,6 +34,7 @@ from mpi4py import MPI  # noqa: E402,F401  (before DOLFINx: the PyPI stack's lib
 from vibrofric import scene as scene_module  # noqa: E402
 from vibrofric.analytic.run import run as run_analytic  # noqa: E402
 from vibrofric.analytic.summary import summarize  # noqa: E402
+from vibrofric.core.errors import NumericalError  # noqa: E402
 from vibrofric.fem import run_fe  # noqa: E402
 from vibrofric.runs import analytic_scene  # noqa: E402
 
@@ -62,7 +64,13 @@ def scene_for(law, parameters, body, scene_file="longitudinal", **more):
 
 
 def ratio_fe(scene) -> float:
-    fe = run_fe(scene)
+    """F_dv/F_d0 of the FE run; NaN for a run that failed (its error on stderr)."""
+    try:
+        fe = run_fe(scene)
+    except NumericalError as err:
+        print(f"{scene.contact.law} {scene.contact.given} E = {scene.body.E:g}: {err}",
+              file=sys.stderr)
+        return math.nan
     return summarize(fe.series, scene, 0.0)["F_dv_over_F_d0"]
 
 
@@ -78,6 +86,7 @@ def rows(quick: bool):
             analytic = ratio_analytic(scene_for(law, given, "steel"))
             fe = {body: ratio_fe(scene_for(law, given, body))
                   for body in (("steel",) if quick else BODIES)}
+            print(label, rule, analytic, fe, file=sys.stderr, flush=True)
             yield {"law": label, "rule": rule, "analytic": analytic, "fe": fe}
 
 

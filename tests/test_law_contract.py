@@ -1,11 +1,14 @@
 """The conformance suite every friction law must pass: the built-in laws, the
 example laws in examples/laws/, and a user's law given by its path:
 
-    VIBROFRIC_LAW=path/to/my_law.py .venv/bin/python -m pytest tests/test_law_contract.py
+    VIBROFRIC_LAW=path/to/my_law.py .venv/bin/python -m pytest tests/test_law_contract.py -k my_law
 
-Each law runs with its default parameters (k_t and mu set to the Fig 7 scene's)
-through the contract alone: contact_step, the lumped steppers, the FE model's
-per-node contact.
+(-k with the file's stem selects that law's cases; add -m "" for the slow FE
+case too). Each test is named by the property it checks and its id by the law,
+e.g. test_rotation_invariance[my_law]. Each law runs with its default parameters
+(k_t and mu set to the Fig 7 scene's) through the contract alone: contact_step,
+the lumped steppers, the FE model's per-node contact and, marked slow, the FE
+model on a rigid block.
 """
 
 import math
@@ -31,10 +34,12 @@ LAWS = {
     "dahl-brittle": ("dahl", {"dahl_exponent": 0.5}),
     "dahl-ductile": ("dahl", {"dahl_exponent": 2.0}),
     "lugre": ("lugre", {"F_s": 7.0, "v_s": 2e-3}),
-    "maxwell-slip": (str(ROOT / "examples" / "laws" / "maxwell_slip.py"), {}),
+    "maxwell_slip": (str(ROOT / "examples" / "laws" / "maxwell_slip.py"), {}),
+    "jenkins": (str(ROOT / "examples" / "laws" / "jenkins.py"), {}),
 }
 if os.environ.get("VIBROFRIC_LAW"):
-    LAWS["user"] = (str(Path(os.environ["VIBROFRIC_LAW"]).resolve()), {})
+    USER_LAW = Path(os.environ["VIBROFRIC_LAW"]).resolve()
+    LAWS[USER_LAW.stem] = (str(USER_LAW), {})
 
 
 def given_values(name) -> dict:
@@ -84,7 +89,7 @@ def rotate(vectors, angle):
 
 
 @pytest.mark.parametrize("name", LAWS)
-def test_rotating_the_contact_plane_rotates_every_force(name):
+def test_rotation_invariance(name):
     law = contact_law(name)
     slip, free = history(300, 8, 1)
     forces, _ = run_history(law, slip, free)
@@ -94,7 +99,7 @@ def test_rotating_the_contact_plane_rotates_every_force(name):
 
 
 @pytest.mark.parametrize("name", LAWS)
-def test_the_force_stays_within_the_declared_bound(name):
+def test_force_within_declared_bound(name):
     law = contact_law(name)
     slip, free = history(500, 8, 2)
     forces, _ = run_history(law, 3.0 * slip, 3.0 * free)  # fast slips, ~1 s_c a step
@@ -104,8 +109,57 @@ def test_the_force_stays_within_the_declared_bound(name):
     assert np.hypot(forces[..., 0], forces[..., 1]).max() <= bound * (1.0 + 1e-12)
 
 
+def normal_history(steps, nodes, seed):
+    """Each node's normal force over ``steps`` steps: swinging by up to +-60% about F_N
+    (a block rocking on its contact), with drops to 0 and returns."""
+    rng = np.random.default_rng(seed)
+    phase = rng.uniform(0.0, 2.0 * math.pi, nodes)
+    t = np.arange(steps)[:, None]
+    normal = F_N * (1.0 + 0.6 * np.sin(2.0 * math.pi * t / 37.0 + phase))
+    normal *= rng.uniform(0.7, 1.3, size=(steps, nodes))    # and jumping step to step
+    normal[rng.random((steps, nodes)) < 0.03] = 0.0          # out of contact now and then
+    return normal
+
+
 @pytest.mark.parametrize("name", LAWS)
-def test_a_closed_slip_cycle_dissipates(name):
+def test_coulomb_limit_at_each_steps_normal_force(name):
+    """The contract's rule for a changing normal force: every step's force lies within
+    max_friction_coefficient times that step's own normal force, whatever the node held
+    before (a force within the limit of a larger earlier N returns to the new limit at
+    once); out of contact (N = 0) the force is 0."""
+    law = contact_law(name)
+    steps, nodes = 600, 8
+    slip, free = history(steps, nodes, 4)
+    normal = normal_history(steps, nodes, 5)
+    state = law.law.initial_state(nodes)
+    share = np.full(nodes, 1.0 / nodes)
+    mu_max = law.bounds(1e-6).max_friction_coefficient
+    for s, f, n in zip(3.0 * slip, 3.0 * free, normal):
+        force = np.hypot(*contact_step(law, state, s, f, n, share, 1e-6).T)
+        assert np.all(np.isfinite(force))
+        # the force's norm is rounded once (1e-12 relative)
+        assert np.all(force <= mu_max * n * (1.0 + 1e-12))
+        assert np.all(force[n == 0.0] == 0.0)
+
+
+@pytest.mark.parametrize("name", LAWS)
+def test_release_out_of_contact_and_return_from_rest(name):
+    """A node out of contact for one step (N = 0) lets go of what it held: back in
+    contact, its next step's force is that of a node at rest taking the same step."""
+    law = contact_law(name)
+    slip, free = history(200, 1, 6)
+    state = law.law.initial_state(1)
+    for s, f in zip(slip[:199], free[:199]):
+        contact_step(law, state, s, f, np.array([F_N]), np.ones(1), 1e-6)
+    contact_step(law, state, slip[0], free[0], np.zeros(1), np.ones(1), 1e-6)
+    returned = contact_step(law, state, slip[199], free[199], np.array([F_N]), np.ones(1), 1e-6)
+    fresh = contact_step(law, law.law.initial_state(1), slip[199], free[199], np.array([F_N]),
+                         np.ones(1), 1e-6)
+    np.testing.assert_array_equal(returned, fresh)
+
+
+@pytest.mark.parametrize("name", LAWS)
+def test_closed_slip_cycle_dissipates(name):
     """Two turns of a circular slip path of radius 2 s_c: the work the slip puts in
     over the second turn, less the change of stored energy, is >= 0."""
     law = contact_law(name)
@@ -130,7 +184,7 @@ def test_a_closed_slip_cycle_dissipates(name):
 
 
 @pytest.mark.parametrize("name", LAWS)
-def test_the_1d_stepper_equals_the_coupled_one_along_x(name):
+def test_1d_stepper_equals_coupled_along_x(name):
     """At theta = 0 the coupled stepper's phase 2 and Y motion vanish: it is the 1D model.
     Same law calls, same increments: equal to rounding (1e-12 of the largest force)."""
     scene = short_scene(name)
@@ -145,7 +199,7 @@ def test_the_1d_stepper_equals_the_coupled_one_along_x(name):
     ("dahl", ("vibration.theta_deg=250", "vibration.k_v=3"), {"update": "paper"}),
     ("lugre", ("vibration.theta_deg=90",), {"h_t": 20.0, "h_v": 5.0}),    # with its dampings
 ])
-def test_one_fe_contact_node_reproduces_the_lumped_forces(name, overrides, contact):
+def test_fe_node_reproduces_lumped_forces(name, overrides, contact):
     """The FE model's per-node contact (fem.contact) on ONE node (area share 1, normal
     force F_N), driven by the lumped stepper's own body and base trajectory, returns the
     stepper's friction force at every step. Both call the same law update with the same
@@ -180,7 +234,7 @@ def test_one_fe_contact_node_reproduces_the_lumped_forces(name, overrides, conta
 
 @pytest.mark.parametrize("theta", [0.0, 90.0])   # longitudinal and transverse vibration
 @pytest.mark.parametrize("name", LAWS)
-def test_the_drive_force_converges_in_dt_at_the_declared_order(name, theta):
+def test_dt_convergence_at_declared_order(name, theta):
     """The mean drive force over the averaging window at dt, dt/2, dt/4 against dt/16:
     the errors fall by ~2^ORDER a halving (the observed order within 0.5 of it: the
     stick-slip events make the error curve ragged at this short run)."""
@@ -233,6 +287,79 @@ def test_a_law_that_breaks_the_contract_is_refused_before_any_work(tmp_path, cap
     error = capsys.readouterr().err
     assert code == 2 and message in error and error.count("\n") == 1
     assert not (tmp_path / "out").exists()
+
+
+JENKINS = (ROOT / "examples" / "laws" / "jenkins.py").read_text()
+# A law numba cannot compile, or that breaks at run time: (law file, message)
+BROKEN_LAWS = {
+    "module-level-dict": (JENKINS.replace("ORDER = 1\n", "ORDER = 1\nTABLE = {'a': 1.0}\n")
+                          .replace("    mu = params[1]\n", "    mu = params[1] * TABLE['a']\n"),
+                          "numba cannot compile update: Untyped global name 'TABLE'"),
+    "helper-without-njit": (JENKINS.replace("@njit\ndef _return_to_circle", "def _return_to_circle"),
+                            "must be decorated with @numba.njit"),
+    "scalar-returned": (JENKINS.replace("    return k * d_x, k * d_y\n", "    return k * d_x\n"),
+                        "numba cannot compile update: Can't unify return type"),
+    "update-not-a-function": (JENKINS.replace("def update(", "def _update(") + "update = 42\n",
+                              "update must be a function, got int 42"),
+    "wrong-signature": (JENKINS.replace("state, params, dt):\n    k =", "state, params):\n    k ="),
+                        "update must take 9 arguments"),
+    "raises": (JENKINS.replace("    mu = params[1]\n",
+                               "    mu = params[1]\n    if slip_x > 0.0:\n"
+                               "        raise ValueError('no forward slip')\n"),
+               "update raised ValueError: no forward slip"),
+    "writes-outside-its-state": (JENKINS.replace("    state[0], state[1] = d_x, d_y\n",
+                                                 "    state[0], state[1] = d_x, d_y\n"
+                                                 "    state[5] = 1.0\n"),
+                                 "update indexes outside its state (STATE_SIZE = 2)"),
+    "not-finite": (JENKINS.replace("    return k * d_x, k * d_y\n",
+                                   "    return k * d_x / (mu - mu), k * d_y\n"),
+                   "update returned a force that is not finite"),
+    "exits-at-import": ("import sys\nsys.exit(0)\n" + JENKINS, "could not be loaded: SystemExit: 0"),
+}
+
+
+@pytest.mark.parametrize("case", BROKEN_LAWS)
+def test_a_broken_law_is_refused_in_one_line(tmp_path, capsys, case):
+    """A law numba cannot compile, one of the wrong shape, or one that fails on its first
+    steps (bounds-checked): one line naming the law file and what is wrong, exit 2,
+    nothing written; --verbose adds numba's own message, without its colours."""
+    from vibrofric.cli import main
+
+    source, message = BROKEN_LAWS[case]
+    law = tmp_path / f"{case.replace('-', '_')}.py"
+    law.write_text(source)
+    out = tmp_path / "out"
+    code = main(["analytic", str(ROOT / "scenes" / "longitudinal.toml"), "--set",
+                 f"contact.law={law}", "--out", str(out)])
+    error = capsys.readouterr().err
+    assert code == 2 and error.count("\n") == 1, error
+    assert f"contact.law: {law}" in error and message in error
+    assert not out.exists()
+    if case == "module-level-dict":
+        main(["analytic", str(ROOT / "scenes" / "longitudinal.toml"), "--set",
+              f"contact.law={law}", "--out", str(out), "--verbose"])
+        verbose = capsys.readouterr().err
+        assert "Failed in nopython mode" in verbose and "\x1b[" not in verbose
+
+
+def test_a_broken_law_stops_run_before_any_fe_work(tmp_path):
+    """``vibrofric run`` with a law numba cannot compile stops at the scene, before the
+    FE model's modules (DOLFINx, gmsh) are imported."""
+    import subprocess
+    import sys
+
+    from conftest import child_environment
+
+    law = tmp_path / "broken.py"
+    law.write_text(BROKEN_LAWS["module-level-dict"][0])
+    code = ("import sys; from vibrofric.cli import main; "
+            f"code = main(['run', {str(ROOT / 'scenes' / 'longitudinal.toml')!r}, '--set', "
+            f"'contact.law={law}', '--out', {str(tmp_path / 'out')!r}]); "
+            "print(code, 'dolfinx' in sys.modules, 'gmsh' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env=child_environment(), cwd=tmp_path, timeout=300)
+    assert done.stdout.split() == ["2", "False", "False"], done.stderr
+    assert "numba cannot compile update" in done.stderr
 
 
 def test_the_example_law_runs_in_the_fe_model_through_the_command(tmp_path, capsys):

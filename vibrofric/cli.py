@@ -76,6 +76,9 @@ def _scene_arguments(parser):
                         metavar="SECTION.KEY=VALUE", help="override a scene key (repeatable)")
     _out_argument(parser, "results directory")
     parser.add_argument("--json", action="store_true", help="print one JSON document to stdout")
+    parser.add_argument("--verbose", action="store_true",
+                        help="with a refusal, the whole message behind its one line "
+                             "(numba's, for a friction law it cannot compile)")
 
 
 def _series_argument(parser):
@@ -330,6 +333,8 @@ def main(argv=None) -> int:
             raise
         message, code = explained
         print(message, file=sys.stderr)
+        if getattr(args, "verbose", False) and getattr(err, "detail", ""):
+            print(err.detail.rstrip(), file=sys.stderr)
         return code
 
 

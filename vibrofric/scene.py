@@ -24,11 +24,18 @@ from .meshes import level_counts
 
 
 class SceneError(ValueError):
-    """A scene value that cannot be run; the message names the key."""
+    """A scene value that cannot be run; the message names the key. ``detail``: a longer
+    explanation behind the one line, where there is one (numba's message for a law)."""
 
-    def __init__(self, key: str, message: str):
+    def __init__(self, key: str, message: str, detail: str = ""):
         super().__init__(f"{key}: {message}")
         self.key = key
+        self.detail = detail
+
+
+def law_refused(err: LawError) -> SceneError:
+    """A friction law's failure as the scene's: under contact.law, numba's message kept."""
+    return SceneError("contact.law", str(err), getattr(err, "detail", ""))
 
 
 # The scene key a user changes when the model refuses a scene (core.errors):
@@ -404,7 +411,7 @@ def _loaded(name: str):
     try:
         return load_law(name)
     except LawError as err:
-        raise SceneError("contact.law", str(err)) from None
+        raise law_refused(err) from None
 
 
 def _check_table(name: str, table: dict, chosen: str) -> None:
@@ -569,6 +576,10 @@ def validate(scene: Scene) -> None:
         level_counts(scene.fem.mesh)
     except ValueError as err:
         raise SceneError("fem.mesh", str(err)) from None
+    try:  # a law file's first steps at the scene's values, bounds-checked (friction_law.law_check)
+        scene.friction.law.probe(scene.friction, scene.time.dt)
+    except LawError as err:
+        raise law_refused(err) from None
     if scene.vibrated:
         vib, time = scene.vibration, scene.time
         if time.T <= vib.t_on:

@@ -67,7 +67,12 @@ REQUIRED = ("PARAMETERS", "STATE_SIZE", "INITIAL_STATE", "ORDER", "update", "sto
 
 
 class LawError(ValueError):
-    """A law that cannot be loaded or breaks the contract."""
+    """A law that cannot be loaded or breaks the contract: one line; ``detail`` holds the
+    full message behind it (numba's) where there is one."""
+
+    def __init__(self, message: str, detail: str = ""):
+        super().__init__(message)
+        self.detail = detail
 
 
 class ParameterError(ValueError):
@@ -169,6 +174,15 @@ class FrictionLaw:
     fingerprint: str        # hash of the law's source and the package's (compiled-code name)
     update: object = field(repr=False)          # numba dispatcher, inlined into the loops
     stored_energy: object = field(repr=False)
+    checked_update: object = field(default=None, repr=False)  # a law file's update with bounds
+                                                              # checks (law_check), else None
+
+    def probe(self, contact_law: "ContactLaw", dt: float) -> None:
+        """A law file's first steps at these parameter values, bounds-checked
+        (law_check.probe_law); raises LawError. Nothing for a built-in law."""
+        if self.checked_update is not None:
+            from .law_check import probe_law
+            probe_law(self.checked_update, contact_law, dt, self.name)
 
     @property
     def parameters(self) -> dict:
@@ -238,7 +252,10 @@ def _load_module(name: str):
         sys.modules[module_name] = module
         try:
             spec.loader.exec_module(module)
-        except Exception as err:
+        except KeyboardInterrupt:
+            del sys.modules[module_name]
+            raise
+        except BaseException as err:  # SystemExit too: a law's import never ends the run
             del sys.modules[module_name]
             raise LawError(f"{path} could not be loaded: {type(err).__name__}: {err}") from None
         return module, path
@@ -279,16 +296,24 @@ def load_law(name: str) -> FrictionLaw:
     """The friction law ``name``: a built-in, a .py file (relative to the current directory;
     the scene resolves one named in a scene file), or an importable module.
 
-    Raises LawError for a law that cannot be found or breaks the contract.
+    A law file or module is compiled with numba here, before any other work, and its
+    types checked (law_check.compile_law). Raises LawError for a law that cannot be
+    found, breaks the contract or cannot be compiled.
     """
     module, source = _load_module(name)
     key = (module.__name__, source)
     if key not in _LOADED:
-        _check_contract(module, str(source) if name not in BUILT_IN else name)
+        where = str(source) if name not in BUILT_IN else name
+        _check_contract(module, where)
+        checked = None
+        if name not in BUILT_IN:  # a user's law: compiled and type-checked now (law_check)
+            from .law_check import compile_law
+            checked = compile_law(module, where)
         law_file = source.resolve()
         digest = hashlib.sha256((package_hash() + _source_hash([law_file], law_file.parent)).encode())
         _LOADED[key] = FrictionLaw(name, module, digest.hexdigest()[:16],
-                                   _inlined(module.update), _inlined(module.stored_energy))
+                                   _inlined(module.update), _inlined(module.stored_energy),
+                                   checked)
     return _LOADED[key]
 
 
