@@ -577,7 +577,9 @@ def validate(scene: Scene) -> None:
     except ValueError as err:
         raise SceneError("fem.mesh", str(err)) from None
     try:  # a law file's first steps at the scene's values, bounds-checked (friction_law.law_check)
-        scene.friction.law.probe(scene.friction, scene.time.dt)
+        law = load_law(scene.contact.law)   # (not scene.friction: a Scene stays picklable)
+        law.probe(ContactLaw(law, law.values(scene.contact.given), scene.contact.F_N),
+                  scene.time.dt)
     except LawError as err:
         raise law_refused(err) from None
     if scene.vibrated:

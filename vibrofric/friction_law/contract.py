@@ -21,6 +21,17 @@ A law is a Python module (a file or an importable module) that defines
         compiled_parameters() made. Returns the friction force F, which acts
         on the body as -F.
 
+        A changing normal force: an FE node's N changes every step (the block
+        rocks), the lumped body's never. Every step's force lies within
+        bounds().max_friction_coefficient times *that step's* normal force,
+        whatever the node held before: what it holds beyond a limit that
+        dropped returns to the limit at once (Coulomb's inequality at every
+        instant; the radial return of computational contact). N <= 0 releases
+        the node: force 0, and back in contact it starts from rest. The
+        conformance suite (tests/test_law_contract.py) checks both under a
+        swinging, jumping and vanishing N. The asperity laws offer two other
+        rules for comparison (asperity.py: normal_change).
+
     stored_energy(state, params, area_share) -> float
         The elastic energy the node's state holds (J), compiled; for the
         energy balance (fem.energy).
