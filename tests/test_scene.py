@@ -1,5 +1,8 @@
 """Scene loading, overrides and the refusals of spec/interface.md."""
 
+import tomllib
+from pathlib import Path
+
 import pytest
 
 from vibrofric import scene as scene_module
@@ -88,3 +91,52 @@ def test_shipped_scenes_hold_the_papers_cases(load_scene, name, mass, theta, k_v
     scene = load_scene(name)
     assert (scene.body.mass, scene.vibration.theta_deg, scene.vibration.k_v) == (mass, theta, k_v)
     assert scene.time.dt == 1e-6 and scene.time.T == 1.0 and scene.vibration.t_on == 0.14
+
+
+LAWS_ROOT = Path(__file__).resolve().parents[1] / "examples" / "laws"
+
+
+@pytest.mark.parametrize("scene_name", ["longitudinal", "transverse", "coupled"])
+@pytest.mark.parametrize("law", ["dahl", "lugre", str(LAWS_ROOT / "jenkins.py"),
+                                 str(LAWS_ROOT / "maxwell_slip.py")])
+def test_any_law_runs_from_any_shipped_scene(scene_name, law):
+    """--set contact.law=... on a shipped scene: the other laws' tables stay unapplied
+    (the Dahl table's update reaches Dahl only), the shared keys reach the new law."""
+    scene = scene_module.load(f"scenes/{scene_name}.toml", [f"contact.law={law}"])
+    values = scene.contact.law_values
+    assert values["k_t"] == scene_module.load(f"scenes/{scene_name}.toml").contact.k_t
+    assert ("update" in values) == (law in ("dahl", "lugre"))
+    assert scene.contact.tables["dahl"] == {"update": "exact"}
+
+
+def test_a_law_table_applies_to_its_own_law_only():
+    """[contact.lugre] reaches LuGre alone, over [contact]'s value; a round trip through
+    the written scene keeps every table where it was."""
+    scene = scene_module.load("scenes/longitudinal.toml", ["contact.lugre.mu=0.2",
+                                                           "contact.dahl.update=paper"])
+    assert scene.contact.mu == 0.1 and scene.contact.update == "paper"
+    lugre = scene.with_values({"contact.law": "lugre"})
+    assert lugre.contact.mu == 0.2 and lugre.contact.update == "exact"
+    again = scene_module.from_dict(tomllib.loads(scene_module.to_toml(lugre)))
+    assert again.contact == lugre.contact
+
+
+def test_set_changes_a_key_where_the_scene_holds_it():
+    """--set contact.update=paper changes the chosen law's table, not [contact]: the
+    scene then still switches to a law without an update."""
+    scene = scene_module.load("scenes/longitudinal.toml", ["contact.update=paper"])
+    assert scene.contact.tables["dahl"] == {"update": "paper"} and "update" not in scene.contact.parameters
+    jenkins = scene.with_values({"contact.law": str(LAWS_ROOT / "jenkins.py")})
+    assert set(jenkins.contact.law_values) == {"k_t", "mu"}
+
+
+@pytest.mark.parametrize("overrides, key", [
+    (["contact.dahl.updat=paper"], "contact.dahl.updat"),        # a typo in a built-in's table
+    (["contact.lugre.v_s=-1"], "contact.lugre.v_s"),             # checked though Dahl runs
+    (["contact.dalh.update=paper"], "contact.dalh"),             # a misspelled law's table
+    ([f"contact.law={LAWS_ROOT / 'jenkins.py'}", "contact.dahl_exponent=0"],
+     "contact.dahl_exponent"),                                   # not the chosen law's key
+    ([f"contact.law={LAWS_ROOT / 'jenkins.py'}", "contact.jenkins.k_T=1"], "contact.jenkins.k_T"),
+])
+def test_a_key_for_no_law_or_another_law_is_refused(overrides, key, refused_key):
+    assert refused_key(lambda: scene_module.load("scenes/longitudinal.toml", overrides)) == key

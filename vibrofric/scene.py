@@ -304,15 +304,12 @@ def _assign(raw: dict, key: str, value) -> None:
     changes the update of the law that runs."""
     section, name = _split_key(key)
     table = raw.setdefault(section, {})
-    if "." in name:
-        law, name = name.split(".")
-    elif section == "contact" and name not in CONTACT_KEYS:
-        law = law_key(table.get("law", Contact.law))
-        if name not in (table.get(law) if isinstance(table.get(law), dict) else {}):
-            law = None
-    else:
-        law = None
-    if law is not None:
+    law, _, name = name.rpartition(".")
+    if section == "contact" and not law and name not in CONTACT_KEYS:
+        chosen = law_key(table.get("law", Contact.law))
+        if name in (table.get(chosen) if isinstance(table.get(chosen), dict) else ()):
+            law = chosen
+    if law:
         table = table.setdefault(law, {})
         if not isinstance(table, dict):
             raise SceneError(key, f"contact.{law} is a value, not a law's table")
@@ -386,18 +383,19 @@ def _contact(values: dict) -> Contact:
               if key not in CONTACT_KEYS and key not in tables}
     for name, table in tables.items():
         _check_table(name, table, chosen)
-    given = {**shared, **tables.get(chosen, {})}
+    own_table = tables.get(chosen, {})
     try:
-        checked = law.values(given)
+        shared_values = law.values(shared)
+        checked = law.values({**shared, **own_table})
         law.check(ContactLaw(law, checked, own.get("F_N", Contact.F_N)).p)
     except ParameterError as err:
-        where = f"{chosen}.{err.name}" if err.name in tables.get(chosen, {}) else err.name
-        raise SceneError(f"contact.{where}", str(err)) from None
+        table = f"{chosen}." if err.name in own_table else ""
+        raise SceneError(f"contact.{table}{err.name}", str(err)) from None
     stored = {name: {key: _as_law_value(value) for key, value in table.items()}
               for name, table in tables.items()}
-    if chosen in tables:
-        stored[chosen] = {key: checked[key] for key in tables[chosen]}
-    return Contact(**own, parameters={key: checked[key] for key in shared}, tables=stored)
+    if own_table:
+        stored[chosen] = {key: checked[key] for key in own_table}
+    return Contact(**own, parameters={key: shared_values[key] for key in shared}, tables=stored)
 
 
 def _as_law_value(value):
