@@ -33,13 +33,22 @@ LAWS = {
     "dahl": ("dahl", {}),
     "dahl-brittle": ("dahl", {"dahl_exponent": 0.5}),
     "dahl-ductile": ("dahl", {"dahl_exponent": 2.0}),
+    "dahl-paper": ("dahl", {"update": "paper"}),
+    "dahl-brittle-paper": ("dahl", {"dahl_exponent": 0.5, "update": "paper"}),
     "lugre": ("lugre", {"F_s": 7.0, "v_s": 2e-3}),
     "maxwell_slip": (str(ROOT / "examples" / "laws" / "maxwell_slip.py"), {}),
     "jenkins": (str(ROOT / "examples" / "laws" / "jenkins.py"), {}),
 }
+# The paper's explicit update (eq 18) overshoots the sliding limit by its own step error
+# (for i < 1 by up to (slip / s_c)^2 / 4 of it: r^i is not Lipschitz at the limit), so the
+# force bounds below hold for it only up to that error: they run on the other laws, and
+# the rule itself is checked for every law with a slip-free step
+# (test_a_dropped_normal_force_returns_the_force_to_its_limit).
+BOUNDED = [name for name, (_, values) in LAWS.items() if values.get("update") != "paper"]
 if os.environ.get("VIBROFRIC_LAW"):
     USER_LAW = Path(os.environ["VIBROFRIC_LAW"]).resolve()
     LAWS[USER_LAW.stem] = (str(USER_LAW), {})
+    BOUNDED.append(USER_LAW.stem)
 
 
 def given_values(name) -> dict:
@@ -98,7 +107,7 @@ def test_rotation_invariance(name):
     np.testing.assert_allclose(rotated, rotate(forces, 0.7), rtol=0, atol=1e-11 * F_N)
 
 
-@pytest.mark.parametrize("name", LAWS)
+@pytest.mark.parametrize("name", BOUNDED)
 def test_force_within_declared_bound(name):
     law = contact_law(name)
     slip, free = history(500, 8, 2)
@@ -121,7 +130,7 @@ def normal_history(steps, nodes, seed):
     return normal
 
 
-@pytest.mark.parametrize("name", LAWS)
+@pytest.mark.parametrize("name", BOUNDED)
 def test_coulomb_limit_at_each_steps_normal_force(name):
     """The contract's rule for a changing normal force: every step's force lies within
     max_friction_coefficient times that step's own normal force, whatever the node held
@@ -140,6 +149,27 @@ def test_coulomb_limit_at_each_steps_normal_force(name):
         # the force's norm is rounded once (1e-12 relative)
         assert np.all(force <= mu_max * n * (1.0 + 1e-12))
         assert np.all(force[n == 0.0] == 0.0)
+
+
+@pytest.mark.parametrize("name", LAWS)
+def test_a_dropped_normal_force_returns_the_force_to_its_limit(name):
+    """A node sliding at its limit, then a step without slip at a lower normal force:
+    the force is back within the new limit at once (the rule for a changing normal
+    force, for every law and update: a slip-free step adds no step error)."""
+    law = contact_law(name)
+    mu_max = law.bounds(1e-6).max_friction_coefficient
+    state = law.law.initial_state(1)
+    slip = np.array([[0.02 * S_C, 0.0]])
+    for _ in range(2000):      # 40 s_c at 0.02 s_c a step: sliding, at the limit
+        force = contact_step(law, state, slip, np.zeros((1, 2)), np.array([F_N]), np.ones(1), 1e-6)
+    assert np.hypot(*force[0]) > 0.9 * law.bounds(1e-6).friction_coefficient * F_N
+    # The norm's rounding (1e-12 relative); the paper's update slides at up to
+    # (slip / s_c)^2 / 4 = 1e-4 past its limit (i < 1), and keeps that overshoot.
+    overshoot = 0.25 * 0.02 ** 2 if LAWS[name][1].get("update") == "paper" else 0.0
+    for drop in (0.5, 0.2, 0.9):
+        force = contact_step(law, state, np.zeros((1, 2)), np.zeros((1, 2)),
+                             np.array([drop * F_N]), np.ones(1), 1e-6)
+        assert np.hypot(*force[0]) <= mu_max * F_N * (drop + overshoot) * (1.0 + 1e-12)
 
 
 @pytest.mark.parametrize("name", LAWS)
