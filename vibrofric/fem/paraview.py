@@ -67,7 +67,7 @@ class FrameWriter:
         self.model = model
         self.path = Path(vtk_dir) / "block.pvd"
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.series = VTKSeries(model.disc.space, comm, self.path, FIELDS,
+        self.series = VTKSeries(model.disc.vector_space(comm), comm, self.path, FIELDS,
                                 scalars=("contact_pressure",))
         self.frames = 0
 
