@@ -57,6 +57,19 @@ def test_a_damaged_entry_is_removed_and_rebuilt(tmp_path, damage):
     assert hit and len(builds) == 2
 
 
+def test_prune_keeps_the_most_recently_used(tmp_path):
+    import os
+
+    for k in range(5):
+        disk_cache.write_arrays(tmp_path / f"block-{k}.npz", {"k": np.array(k)})
+        os.utime(tmp_path / f"block-{k}.npz", (1000 + k, 1000 + k))
+    os.utime(tmp_path / "block-0.npz", (2000, 2000))     # used last
+    disk_cache.write_arrays(tmp_path / "other.npz", {"k": np.array(9)})
+    disk_cache.prune(tmp_path, "block-*.npz", 2)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["block-0.npz", "block-4.npz",
+                                                           "other.npz"]
+
+
 def test_the_cache_directory_follows_xdg(monkeypatch, tmp_path):
     monkeypatch.delenv("VIBROFRIC_CACHE", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))

@@ -210,7 +210,7 @@ def _progress_bar(args, what: str, total: float):
         if done == 0:
             bar.reset()
         else:
-            bar.update(done - bar.n)
+            bar.update(min(done, bar.total) - bar.n)  # the last step may pass T by a rounding
 
     return progress, bar
 

@@ -99,6 +99,18 @@ def read_arrays(path: Path) -> dict | None:
         return None
 
 
+def prune(directory: Path, pattern: str, kept: int) -> None:
+    """Remove the entries matching ``pattern`` beyond the ``kept`` most recently modified
+    (with their lock files; best effort: another process may be removing them too)."""
+    try:
+        entries = sorted(directory.glob(pattern), key=lambda p: p.stat().st_mtime, reverse=True)
+        for path in entries[kept:]:
+            path.unlink(missing_ok=True)
+            path.with_name(path.name + ".lock").unlink(missing_ok=True)
+    except OSError:
+        pass
+
+
 def cached_arrays(path: Path, build) -> tuple[dict, bool]:
     """(arrays, hit): the entry at ``path``, else ``build()`` (a dict of arrays) written
     there. Processes asking for the same entry at once build it once: the others

@@ -12,6 +12,10 @@ would build the same again. This module keeps them in
     reduction-<key>.npz   reduction.Reduction's arrays: keyed by the model's content
                           (reduction.model_key), the cutoff, numpy's, scipy's and
                           the package's versions
+    compliance-<key>.npz  the full model's dynamic compliance at one frequency, for the
+                          reduction's error estimate (reduction.compliance_error):
+                          keyed by the model's content, k_t, the frequency and the
+                          same versions
 
 A key covers everything the entry is computed from, so an entry is either
 right or never looked up; "the package's version" is its version and the hash
@@ -42,6 +46,9 @@ from . import dolfinx_adapter
 from .assembly import Discretization, assemble_block
 
 FORMAT = 1   # the entries' layout: a change here makes every entry anew
+# Entries of each kind kept: the most recently used (a reduction of the "fine" mesh
+# holds its dense basis, ~270 MB; the "coarse" one's ~0.6 MB).
+KEPT_ENTRIES = 12
 
 
 def enabled() -> bool:
@@ -79,8 +86,21 @@ def cached(kind: str, parts: dict, build) -> dict:
     """The arrays of the entry (kind, parts), ``build()`` run and stored if it is missing."""
     if not enabled():
         return {name: np.asarray(value) for name, value in build().items()}
-    arrays, _ = disk_cache.cached_arrays(entry_path(kind, parts), build)
+    path = entry_path(kind, parts)
+    arrays, hit = disk_cache.cached_arrays(path, build)
+    if hit:
+        _touch(path)
+    else:
+        disk_cache.prune(path.parent, f"{kind}-*.npz", KEPT_ENTRIES)
     return arrays
+
+
+def _touch(path) -> None:
+    """Mark an entry used now (prune keeps the most recently used)."""
+    try:
+        os.utime(path)
+    except OSError:
+        pass
 
 
 def _packed(disc: Discretization, faces) -> dict:
@@ -107,7 +127,7 @@ def _space_loader(size, level, coordinates):
     """load_space for a cached block: the mesh read again, its nodes checked against the entry's."""
 
     def load(comm):
-        mesh, _ = dolfinx_adapter.load_block(comm, size, level)
+        mesh, _ = dolfinx_adapter.load_block(dolfinx_adapter.communicator(comm), size, level)
         V = dolfinx_adapter.vector_space(mesh)
         if not np.array_equal(dolfinx_adapter.node_coordinates(V), coordinates):
             raise RuntimeError("the cached FE model's nodes are not the mesh's: clear the "
@@ -118,14 +138,16 @@ def _space_loader(size, level, coordinates):
 
 
 def block(comm, size, level, E, nu, density, faces) -> Discretization:
-    """assembly.assemble_block's Discretization, from the cache when it holds it."""
+    """assembly.assemble_block's Discretization, from the cache when it holds it
+    (``comm`` None: MPI.COMM_SELF, started only if DOLFINx is needed)."""
     faces = tuple(faces)
     parts = {"size": [float(s) for s in size], "level": level, "E": float(E), "nu": float(nu),
              "density": float(density), "faces": list(faces), "dolfinx": dolfinx_version()}
     built = []
 
     def build():
-        built.append(assemble_block(comm, size, level, E, nu, density, faces))
+        built.append(assemble_block(dolfinx_adapter.communicator(comm), size, level, E, nu,
+                                    density, faces))
         return _packed(built[0], faces)
 
     disc = _unpacked(cached("block", parts, build), level, faces)
