@@ -249,3 +249,33 @@ def test_a_damaged_numba_cache_entry_is_compiled_anew(tmp_path):
         path.write_bytes(b"\x80\x04garbage, not a pickle")
     again = _analytic(tmp_path, law.replace(".py", ".toml"), numba_cache=cache)
     assert json.loads(again.stdout)["F_dv"] == json.loads(first.stdout)["F_dv"]
+
+
+# --- honest progress ----------------------------------------------------------------------------
+
+def test_the_loop_reports_its_start_before_any_step(load_scene):
+    pytest.importorskip("dolfinx")
+    from vibrofric.fem import run_fe
+
+    reports = []
+    scene = _short_scene(load_scene, "explicit", 1e-6)
+    run_fe(scene, progress=lambda done, total: reports.append(done))
+    assert reports[0] == 0.0 and reports.count(0.0) == 1 and reports[-1] > 0.0
+
+
+def test_the_bar_restarts_its_clock_when_the_loop_starts():
+    import argparse
+    import time
+
+    from vibrofric import cli
+
+    progress, bar = cli._progress_bar(argparse.Namespace(json=False), "FE", 0.3)
+    try:
+        bar.start_t -= 100.0          # as if set-up and compiling had taken 100 s
+        progress(0.0, 0.3)            # the time loop starts
+        assert bar.n == 0 and time.time() - bar.start_t < 100.0
+        progress(0.1, 0.3)
+        progress(30000 * 1e-5, 0.3)   # the last step's time, a rounding past T
+        assert bar.n == bar.total == 0.3
+    finally:
+        bar.close()

@@ -49,11 +49,5 @@ def warm(fe: bool = True) -> None:
                     run_fe(scene.with_values({"fem.integrator": integrator, "time.dt": dt}))
 
 
-def main(argv=None) -> int:
-    args = sys.argv[1:] if argv is None else argv
-    warm(fe="--analytic-only" not in args)
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    warm()

@@ -16,8 +16,8 @@ The law's functions enter the loops as functions of their own (``_called``:
 compiled once per law, linked into each loop, where LLVM inlines them or
 not), not through numba's inlining (inline="always"), which types and
 lowers the law afresh at every call site: with it the reduced FE loop took
-131 s to compile with Dahl's law, without it 41 s, its results the same to
-the bit and its speed within the noise (docs/first-answer.md).
+131 s to compile with Dahl's law, without it 27 s, its results the same to
+the bit and its speed within 2% (docs/first-answer.md).
 
 Compiling is announced, never hidden: ``loop.prepared(law, args, what)``
 returns the loop compiled for ``law`` and the types of ``args`` (the call a
@@ -32,14 +32,14 @@ to load (damaged, or written by an incompatible build) is dropped and the
 loop compiled anew.
 """
 
-import fcntl
 import sys
 import types
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from pathlib import Path
 
 from numba import njit
 
+from ..disk_cache import locked
 from .contract import FASTMATH
 
 KEPT_VERSIONS = 8  # compiled versions of a loop kept on disk (laws in use, package edits)
@@ -152,22 +152,13 @@ def will_compile(dispatcher, args) -> bool:
         return True
 
 
-@contextmanager
 def _compile_lock(dispatcher):
     """An exclusive lock beside the function's numba cache files (none without a cache)."""
     try:
-        lock = Path(dispatcher._cache._cache_path) / f"{dispatcher._cache._cache_file._index_name}.lock"
-        lock.parent.mkdir(parents=True, exist_ok=True)
-        handle = open(lock, "a")
-    except (AttributeError, OSError):
-        yield
-        return
-    with handle:
-        fcntl.flock(handle, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(handle, fcntl.LOCK_UN)
+        cache = dispatcher._cache
+        return locked(Path(cache._cache_path) / f"{cache._cache_file._index_name}.lock")
+    except AttributeError:          # numba's NullCache: nothing on disk to guard
+        return nullcontext()
 
 
 def ready(dispatcher, args, what: str) -> None:
@@ -200,7 +191,7 @@ def _prune(dispatcher, prefix: str) -> None:
         return
     versions = {}
     try:
-        for path in directory.glob(prefix + "*.nb[ic]"):
+        for path in directory.glob(prefix + "*.nb[ic]*"):  # with the .nbi.lock files
             fingerprint = path.name[len(prefix):].split("-", 1)[0]
             versions.setdefault(fingerprint, []).append((path.stat().st_mtime, path))
         newest = sorted(versions, key=lambda key: max(versions[key])[0], reverse=True)
