@@ -57,6 +57,14 @@ def test_a_damaged_entry_is_removed_and_rebuilt(tmp_path, damage):
     assert hit and len(builds) == 2
 
 
+def test_a_cache_that_cannot_be_written_is_passed_by(tmp_path):
+    (tmp_path / "a file").write_text("")
+    path = tmp_path / "a file" / "models" / "e.npz"   # under a file: no directory there
+    for _ in range(2):
+        arrays, hit = disk_cache.cached_arrays(path, lambda: {"a": np.arange(3.0)})
+        assert not hit and np.array_equal(arrays["a"], np.arange(3.0))
+
+
 def test_prune_keeps_the_most_recently_used(tmp_path):
     import os
 

@@ -19,7 +19,7 @@ import hashlib
 import io
 import os
 import tempfile
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -68,15 +68,22 @@ def read_entry(path: Path) -> bytes | None:
     """The payload written by write_entry, or None: absent, or damaged (then removed)."""
     try:
         data = path.read_bytes()
-    except FileNotFoundError:
+    except OSError:                 # absent, or unreadable: not there for this process
         return None
     head = len(MAGIC) + 65
     digest, payload = data[len(MAGIC):head - 1], data[head:]
     if (data[:len(MAGIC)] != MAGIC or data[head - 1:head] != b"\n"
             or hashlib.sha256(payload).hexdigest().encode() != digest):
-        path.unlink(missing_ok=True)
+        _remove(path)
         return None
     return payload
+
+
+def _remove(path: Path) -> None:
+    try:
+        path.unlink(missing_ok=True)
+    except OSError:
+        pass
 
 
 def write_arrays(path: Path, arrays: dict) -> None:
@@ -95,7 +102,7 @@ def read_arrays(path: Path) -> dict | None:
         with np.load(io.BytesIO(payload), allow_pickle=False) as archive:
             return {name: archive[name] for name in archive.files}
     except (ValueError, OSError, KeyError):  # a checksum that matched a foreign payload
-        path.unlink(missing_ok=True)
+        _remove(path)
         return None
 
 
@@ -114,14 +121,25 @@ def prune(directory: Path, pattern: str, kept: int) -> None:
 def cached_arrays(path: Path, build) -> tuple[dict, bool]:
     """(arrays, hit): the entry at ``path``, else ``build()`` (a dict of arrays) written
     there. Processes asking for the same entry at once build it once: the others
-    wait on its lock and read it."""
+    wait on its lock and read it.
+
+    A cache that cannot be written (a read-only or full disk) is passed by: the
+    entry is built and used, not stored.
+    """
     arrays = read_arrays(path)
     if arrays is not None:
         return arrays, True
-    with locked(path.with_name(path.name + ".lock")):
+    with ExitStack() as stack:
+        try:
+            stack.enter_context(locked(path.with_name(path.name + ".lock")))
+        except OSError:
+            pass                        # no lock to be had: build it here all the same
         arrays = read_arrays(path)      # built by another process while this one waited
         if arrays is not None:
             return arrays, True
         arrays = {name: np.asarray(value) for name, value in build().items()}
-        write_arrays(path, arrays)
+        try:
+            write_arrays(path, arrays)
+        except OSError:
+            pass
     return arrays, False
