@@ -4,6 +4,7 @@ and the compile announcement and lock (friction_law/specialize.py)."""
 import json
 import subprocess
 import sys
+import uuid
 
 import numpy as np
 import pytest
@@ -197,6 +198,7 @@ def _new_law(tmp_path, elements: int) -> str:
     text = LAW.read_text()
     changed = text.replace("ELEMENTS = 4", f"ELEMENTS = {elements}", 1)
     assert changed != text
+    changed += f"# {uuid.uuid4().hex}: a source no earlier test run has compiled\n"
     path = tmp_path / f"slip{elements}.py"
     path.write_text(changed)
     scene = LAW.with_suffix(".toml").read_text().replace('"maxwell_slip.py"', f'"{path.name}"')

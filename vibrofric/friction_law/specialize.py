@@ -34,7 +34,7 @@ loop compiled anew.
 
 import sys
 import types
-from contextlib import contextmanager, nullcontext
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
 from numba import njit
@@ -152,13 +152,17 @@ def will_compile(dispatcher, args) -> bool:
         return True
 
 
+@contextmanager
 def _compile_lock(dispatcher):
     """An exclusive lock beside the function's numba cache files (none without a cache)."""
-    try:
-        cache = dispatcher._cache
-        return locked(Path(cache._cache_path) / f"{cache._cache_file._index_name}.lock")
-    except AttributeError:          # numba's NullCache: nothing on disk to guard
-        return nullcontext()
+    with ExitStack() as stack:
+        try:
+            cache = dispatcher._cache
+            stack.enter_context(locked(Path(cache._cache_path)
+                                       / f"{cache._cache_file._index_name}.lock"))
+        except (AttributeError, OSError):   # numba's NullCache, or no lock to be had there
+            pass
+        yield
 
 
 def ready(dispatcher, args, what: str) -> None:
