@@ -34,7 +34,7 @@ UV_VENV     := .venv-uv
 
 # The paper's Fig 7 scene (longitudinal, k_v = 6) to 0.3 s, FE and analytic
 # (--force: a second make demo replaces the first one's results).
-demo: $(VENV)/.installed
+demo: $(VENV)/.warm
 	$(VENV)/bin/vibrofric run scenes/longitudinal.toml --set time.T=0.3 --out $(DEMO_OUT) --force
 
 test: $(VENV)/.installed
@@ -48,14 +48,14 @@ test-latest: $(VENV_LATEST)/.installed
 
 # Speed against error of every method (README "Choosing settings"), then the
 # analytic stepper's own timings (benchmarks/).
-bench: $(VENV)/.installed
+bench: $(VENV)/.warm
 	$(VENV)/bin/vibrofric bench --quick --out results/bench --force
 	$(PY) benchmarks/analytic_speed.py
 
 bench-full: $(VENV)/.installed
 	$(VENV)/bin/vibrofric bench --out results/bench-full --force
 
-setup: $(VENV)/.installed
+setup: $(VENV)/.warm
 
 setup-latest: $(VENV_LATEST)/.installed
 
@@ -91,6 +91,12 @@ $(VENV)/.installed: $(VENV)/.debs pyproject.toml
 	$(PY) -m pip install -q -c $(VENV)/constraints.txt -e '.[test]'
 	touch $@
 
+# numba compiles every loop per friction law on first use (minutes for all of
+# them): compiled here for the built-in laws, once (docs/first-answer.md).
+$(VENV)/.warm: $(VENV)/.installed
+	$(PY) -m vibrofric.warm
+	touch $@
+
 # The current DOLFINx from PyPI: dolfinx-solver-real brings DOLFINx with real
 # PETSc, petsc4py, mpi4py and MPICH (its own mpirun in $(VENV_LATEST)/bin; never
 # install PyPI petsc4py beside it); pip picks numpy, numba and scipy to fit.
@@ -121,9 +127,12 @@ $(VENV_LATEST)/.installed: pyproject.toml
 	  print(f'$(VENV_LATEST): DOLFINx {dolfinx.__version__}, numpy {numpy.__version__}, numba {numba.__version__}, gmsh {gmsh.__version__}')"
 	touch $@
 
-# numba's compiled functions (the per-law loops recompile by themselves after an edit)
+# numba's compiled functions (the per-law loops recompile by themselves after an
+# edit) and vibrofric's cache: meshes and FE models (vibrofric/disk_cache.py)
+CACHE_DIR := $(or $(VIBROFRIC_CACHE),$(or $(XDG_CACHE_HOME),$(HOME)/.cache)/vibrofric)
 clean-cache:
-	find vibrofric -name '*.nbi' -delete -o -name '*.nbc' -delete
+	find vibrofric \( -name '*.nbi' -o -name '*.nbc' -o -name '*.nbi.lock' \) -delete
+	rm -rf "$(CACHE_DIR)" $(VENV)/.warm $(VENV_LATEST)/.warm
 
 clean: clean-cache
 	rm -rf $(VENV) $(VENV_LATEST) $(UV_VENV) results .pytest_cache

@@ -122,6 +122,9 @@ def build_parser() -> argparse.ArgumentParser:
     bench = commands.add_parser("bench", help="speed against error of every method, side by side")
     _out_argument(bench, "directory for bench.md and bench.png")
     bench.add_argument("--quick", action="store_true", help="the reduced set, under 2 minutes")
+
+    commands.add_parser("warm", help="compile the built-in friction laws' loops now (make setup "
+                                     "does): later runs start at once")
     return parser
 
 
@@ -195,7 +198,9 @@ def cmd_analytic(args) -> None:
 def _progress_bar(args, what: str, total: float):
     """A tqdm bar over simulated seconds on stderr, as a progress(t_done, t_total)
     callable and the bar; quiet with --json when stderr is not a terminal, and
-    redrawn every 10 s rather than 0.5 s into a log file."""
+    redrawn every 10 s rather than 0.5 s into a log file. A report of 0 done (the
+    time loop starting, its code compiled: recording.run_in_chunks) restarts its
+    clock, so that the rate and the time left are the loop's alone."""
     from tqdm import tqdm
 
     terminal = sys.stderr.isatty()
@@ -205,7 +210,10 @@ def _progress_bar(args, what: str, total: float):
                           "[{elapsed}<{remaining}]")
 
     def progress(done: float, total: float) -> None:
-        bar.update(done - bar.n)
+        if done == 0:
+            bar.reset()
+        else:
+            bar.update(min(done, bar.total) - bar.n)  # the last step may pass T by a rounding
 
     return progress, bar
 
@@ -280,7 +288,14 @@ def cmd_bench(args) -> None:
     print(table)
 
 
-COMMANDS = {"analytic": cmd_analytic, "bench": cmd_bench, "run": cmd_run, "sweep": cmd_sweep}
+def cmd_warm(args) -> None:
+    from .warm import warm
+
+    warm()
+
+
+COMMANDS = {"analytic": cmd_analytic, "bench": cmd_bench, "run": cmd_run, "sweep": cmd_sweep,
+            "warm": cmd_warm}
 
 
 def _interrupted(command: str, signal_name: str) -> str:

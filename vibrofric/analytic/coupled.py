@@ -91,11 +91,11 @@ def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
     returns the failing step, or 0."""
     cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
     law = scene.friction
-    return coupled_loop.for_law(law.law)(
-        scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
-        scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
-        scene.contact.eta_y, scene.contact.F_N, law.law.initial_state(1)[0], law.params,
-        scene.time.dt, plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
+    args = (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
+            scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
+            scene.contact.eta_y, scene.contact.F_N, law.law.initial_state(1)[0], law.params,
+            scene.time.dt, plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
+    return coupled_loop.prepared(law.law, args, "the coupled analytic stepper")(*args)
 
 
 def load_coupled(scene) -> None:

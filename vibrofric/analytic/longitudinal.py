@@ -50,11 +50,11 @@ def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
     """The 1D loop, compiled for the scene's law, over ``plan``'s steps into ``out``;
     returns the failing step, or 0."""
     law = scene.friction
-    return longitudinal_loop.for_law(law.law)(
-        scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
-        scene.u0, scene.omega, scene.vibration.t_on, scene.contact.F_N,
-        law.law.initial_state(1)[0], law.params, scene.time.dt,
-        plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
+    args = (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
+            scene.u0, scene.omega, scene.vibration.t_on, scene.contact.F_N,
+            law.law.initial_state(1)[0], law.params, scene.time.dt,
+            plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
+    return longitudinal_loop.prepared(law.law, args, "the longitudinal analytic stepper")(*args)
 
 
 def load_longitudinal(scene) -> None:

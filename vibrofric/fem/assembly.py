@@ -27,7 +27,10 @@ class Discretization:
     mass         (3 nodes,) lumped (row-sum) mass of each degree of freedom, kg
     face_area    {face tag: (nodes,) tributary area of each node on that face, m^2}
     volume       m^3
-    space        the DOLFINx vector Q1 space (for ``paraview.FrameWriter``)
+    space        the DOLFINx vector Q1 space (for ``paraview.FrameWriter``), or None
+                 for a block read from the model cache (model_cache.py): then
+                 ``vector_space(comm)`` loads it with ``load_space`` when a frame is
+                 written
     """
 
     level: str
@@ -37,6 +40,13 @@ class Discretization:
     face_area: dict
     volume: float
     space: object = field(default=None, repr=False)
+    load_space: object = field(default=None, repr=False)
+
+    def vector_space(self, comm):
+        """The DOLFINx space, loaded on first use for a block from the model cache."""
+        if self.space is None and self.load_space is not None:
+            self.space = self.load_space(comm)
+        return self.space
 
     @property
     def nodes(self) -> int:

@@ -59,6 +59,16 @@ def _dolfinx():
     return dolfinx, ufl, PETSc
 
 
+def communicator(comm=None):
+    """``comm``, or MPI.COMM_SELF for None: mpi4py is imported only here, when DOLFINx
+    is about to be used (starting MPI costs a run ~0.4 s that a run from the model
+    cache without ParaView frames does not need)."""
+    if comm is None:
+        from mpi4py import MPI
+        comm = MPI.COMM_SELF
+    return comm
+
+
 def _model_to_mesh(model, comm, rank):
     """(mesh, facet_tags) from a gmsh model on ``rank`` (None on the other ranks)."""
     try:

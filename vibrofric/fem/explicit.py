@@ -219,7 +219,6 @@ class ExplicitRun(TimeLoop):
         scene, model = self.scene, self.model
         c, dt = scene.contact, scene.time.dt
         law = scene.friction
-        kernel = explicit_steps.for_law(law.law)
         cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
         dofs, contacts = model.dofs, model.contact_nodes.size
 
@@ -230,8 +229,8 @@ class ExplicitRun(TimeLoop):
         disp_new, vel_z = np.empty_like(disp), np.zeros(contacts)
         stiffness = bsr(model.stiffness)  # node-by-node 3x3 blocks
 
-        def steps(first, last):
-            return kernel(
+        def arguments(first, last):
+            return (
                 first, last, dt,
                 stiffness, model.inverse_mass, model.load, model.beta,
                 model.contact_nodes, model.penalty_share, model.area_share, law.params, c.eta_y,
@@ -243,5 +242,10 @@ class ExplicitRun(TimeLoop):
                 model.u0, u, v, work, force_sum, disp, disp_new, vel_z,
                 contact.state, contact.normal, contact.friction,
                 scalars, recorder.arrays, steady.arrays)
+
+        kernel = explicit_steps.prepared(law.law, arguments(1, 0), "the explicit FE loop")
+
+        def steps(first, last):
+            return kernel(*arguments(first, last))
 
         return Started(steps, lambda: (u, v))

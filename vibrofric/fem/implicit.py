@@ -360,7 +360,6 @@ class ImplicitRun(TimeLoop):
         n, contacts = system.size, model.contact_nodes.size
         nc = 3 * contacts
         law = scene.friction
-        kernel = implicit_steps.for_law(law.law)
         params = law.params
         use_energy = scene.fem.energy
 
@@ -384,11 +383,15 @@ class ImplicitRun(TimeLoop):
         drive = Drive(scene.drive.k_d, scene.drive.v_d, self.prescribed)
         limits = Limits(c.F_N, scene.mu_max)
 
+        def arguments(first, last):
+            return (first, last, operators, nodes, params, base, drive, scheme, limits,
+                    use_energy, q, v, a, contact.state, contact.normal, contact.friction,
+                    g_prev, scalars, sums, recorder.arrays, steady.arrays, work)
+
+        kernel = implicit_steps.prepared(law.law, arguments(1, 0), f"the {self.name} FE loop")
+
         def steps(first, last):
-            return kernel(
-                first, last, operators, nodes, params, base, drive, scheme, limits, use_energy,
-                q, v, a, contact.state, contact.normal, contact.friction,
-                g_prev, scalars, sums, recorder.arrays, steady.arrays, work)
+            return kernel(*arguments(first, last))
 
         return Started(steps, lambda: (model.u0 + system.expand(q), system.expand(v)))
 

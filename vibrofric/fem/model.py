@@ -4,7 +4,8 @@
 
 1. the elastic block (assembly.py): K, lumped mass M, face areas, with
    rho = body.density or body.mass / volume (0.5 kg -> 7850 kg/m^3 and
-   2 kg -> 31400 kg/m^3 on the paper's block);
+   2 kg -> 31400 kg/m^3 on the paper's block), read from the model cache
+   after the first run on the same block (model_cache.py);
 2. the normal load (loads.py): gravity + top pressure, total F_N;
 3. the contact (contact.py): the contact-face nodes, their area shares
    w_i = a_i / A and penalty springs k_pen w_i;
@@ -40,7 +41,8 @@ import numpy as np
 from .. import meshes
 from ..core.errors import DriveTipsBlock, StepTooLong
 from . import stability
-from .assembly import Discretization, assemble_block
+from . import model_cache
+from .assembly import Discretization
 from .contact import default_penalty
 from .drive import attachment, drive_stiffness_action
 from .loads import normal_load, top_pressure
@@ -110,8 +112,8 @@ def build_model(scene, comm) -> FEModel:
     body = scene.body
     check_tipping(scene)
     rho = density(scene)
-    disc = assemble_block(comm, body.size, scene.fem.mesh, body.E, body.nu, rho,
-                          faces=(meshes.CONTACT, meshes.TOP, meshes.FRONT))
+    disc = model_cache.block(comm, body.size, scene.fem.mesh, body.E, body.nu, rho,
+                             faces=(meshes.CONTACT, meshes.TOP, meshes.FRONT))
 
     block_mass = rho * disc.volume
     top = disc.face_area[meshes.TOP]

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .dolfinx_adapter import VTKSeries
+from .dolfinx_adapter import VTKSeries, communicator
 
 FIELDS = ("displacement", "velocity", "contact_pressure", "friction_traction",
           "friction_force", "asperity_deformation", "slip")
@@ -67,7 +67,8 @@ class FrameWriter:
         self.model = model
         self.path = Path(vtk_dir) / "block.pvd"
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.series = VTKSeries(model.disc.space, comm, self.path, FIELDS,
+        comm = communicator(comm)
+        self.series = VTKSeries(model.disc.vector_space(comm), comm, self.path, FIELDS,
                                 scalars=("contact_pressure",))
         self.frames = 0
 

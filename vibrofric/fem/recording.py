@@ -173,8 +173,12 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
     """Run steps 1..steps by ``advance(first, last) -> stop step or 0``, returning to
     Python only for the ParaView frames, frame(state(i)) at i = 0, every ``every``
     steps and at the last step, and for ``progress(i, steps)`` every
-    PROGRESS_STEPS steps and at the end. Returns (the last step run, the loop's seconds)."""
+    PROGRESS_STEPS steps and at the end, and ``progress(0, steps)`` first: the loop's
+    clock starts (its compiled step is ready). Returns (the last step run, the loop's
+    seconds)."""
     frames = frame is not None and every > 0
+    if progress is not None:
+        progress(0, steps)
     if frame is not None:
         frame(state(0))
     start = time.perf_counter()

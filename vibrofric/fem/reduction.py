@@ -59,7 +59,8 @@ and the cutoff only, the full model's compliance on the model, the contact's
 stiffness and the frequency; a process keeps both for the last model it
 reduced (``reduced``, ``_full_compliance``), recognized by its matrices'
 content, and ``forget()`` drops them. On the Fig 12 study the set-up was
-0.75 s of each point's 2.8 s.
+0.75 s of each point's 2.8 s. Both are also kept on disk (model_cache.py), so
+that a repeat run or another process finds them built.
 """
 
 import hashlib
@@ -67,12 +68,14 @@ import math
 import time
 
 import numpy as np
+import scipy
 import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from ..core.errors import ReductionFailed
 from ..core.friction import sliding_length
+from . import model_cache
 from .generalized_alpha import LinearSystem
 from .implicit import ImplicitRun
 from .linalg import dof_points, nested_dissection, symmetric_lu
@@ -110,11 +113,16 @@ def forget() -> None:
 
 
 def reduced(model, cutoff_hz: float) -> "Reduction":
-    """Reduction(model, cutoff_hz), or the one this process made last for the same."""
+    """Reduction(model, cutoff_hz), or the one this process made last for the same, or
+    the one the model cache holds (model_cache.py)."""
     key = model_key(model)
     if (key, cutoff_hz) not in _last_reduction:
         forget()
-        _last_reduction[key, cutoff_hz] = Reduction(model, cutoff_hz, key)
+        parts = {"model": key, "cutoff_hz": float(cutoff_hz), "numpy": np.__version__,
+                 "scipy": scipy.__version__}
+        arrays = model_cache.cached("reduction", parts,
+                                    lambda: Reduction(model, cutoff_hz, key).arrays())
+        _last_reduction[key, cutoff_hz] = Reduction.from_arrays(arrays, key)
     return _last_reduction[key, cutoff_hz]
 
 
@@ -127,6 +135,21 @@ class Reduction:
     frequencies the kept fixed-interface modes' frequencies, Hz
     model_key   model_key(model): its full compliances are kept under it
     """
+
+    STORED = ("basis", "boundary", "frequencies", "mass", "stiffness")   # model_cache's arrays
+
+    def arrays(self) -> dict:
+        """What model_cache stores of it."""
+        return {name: getattr(self, name) for name in self.STORED}
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, key: str) -> "Reduction":
+        """The Reduction that ``arrays()`` gave, for the model of ``model_key`` ``key``."""
+        reduction = cls.__new__(cls)
+        reduction.model_key = key
+        for name in cls.STORED:
+            setattr(reduction, name, arrays[name])
+        return reduction
 
     def __init__(self, model, cutoff_hz: float, key: str | None = None):
         self.model_key = key if key is not None else model_key(model)
@@ -266,9 +289,15 @@ def compliance_error(model, reduction: Reduction, scene) -> dict:
     def full(omega):
         key = (reduction.model_key, scene.law_bounds.stiffness, omega)
         if key not in _full_compliance:
-            matrix = K_full * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * sp.diags(model.disc.mass)
-            lu = symmetric_lu(matrix, model.elimination_order)
-            _full_compliance[key] = np.einsum("ij,ij->j", loads, lu.solve(loads.astype(complex)))
+            def solved():
+                matrix = K_full * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * sp.diags(model.disc.mass)
+                lu = symmetric_lu(matrix, model.elimination_order)
+                return {"c": np.einsum("ij,ij->j", loads, lu.solve(loads.astype(complex)))}
+
+            parts = {"model": key[0], "k_t": float(key[1]), "omega": float(omega),
+                     "loss_factor": LOSS_FACTOR, "numpy": np.__version__,
+                     "scipy": scipy.__version__}
+            _full_compliance[key] = model_cache.cached("compliance", parts, solved)["c"]
         return _full_compliance[key]
 
     def reduced(omega):

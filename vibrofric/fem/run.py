@@ -35,9 +35,10 @@ class FEResult:
 
 
 def _communicator(comm):
-    from mpi4py import MPI
-
-    comm = MPI.COMM_SELF if comm is None else comm
+    """The run's communicator: None stands for MPI.COMM_SELF, started only when DOLFINx
+    is used (dolfinx_adapter.communicator)."""
+    if comm is None:
+        return None
     if comm.size > 1:
         raise ValueError(f"an FE run is serial: got a communicator of {comm.size} processes; "
                          "run batches as many single-process runs (MPI.COMM_SELF) side by side")

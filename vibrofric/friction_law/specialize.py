@@ -1,4 +1,4 @@
-"""Time loops compiled for one friction law: the law's update inlined, cached on disk.
+"""Time loops compiled for one friction law: the law's update linked in, cached on disk.
 
 A time loop (the lumped steppers, the FE integrators) calls the law as the
 global ``law_update`` (and ``law_energy`` for its stored energy). Written with
@@ -7,16 +7,40 @@ global ``law_update`` (and ``law_energy`` for its stored energy). Written with
 its globals, and every other law kernel it calls rebuilt the same way, then
 compiles it with numba, cached on disk under a name that carries
 ``law.fingerprint`` (the law's source and the package's). So the law is
-inlined into the loop as if written there, a second run loads the compiled
-loop from the cache, and an edited law or package compiles anew: no stale
+compiled into the loop's machine code, a second run loads the compiled loop
+from the cache, and an edited law or package compiles anew: no stale
 compiled code is ever used. Of each loop the KEPT_VERSIONS most recent
 compiled versions stay on disk.
+
+The law's functions enter the loops as functions of their own (``_called``:
+compiled once per law, linked into each loop, where LLVM inlines them or
+not), not through numba's inlining (inline="always"), which types and
+lowers the law afresh at every call site: with it the reduced FE loop took
+131 s to compile with Dahl's law, without it 27 s, its results the same to
+the bit and its speed within 2% (docs/first-answer.md).
+
+Compiling is announced, never hidden: ``loop.prepared(law, args, what)``
+returns the loop compiled for ``law`` and the types of ``args`` (the call a
+run is about to make), loaded from numba's cache when it is there; when it is
+not, it says so on stderr first ("vibrofric: compiling the reduced FE loop
+for maxwell_slip.py, first run only") and compiles, so that a caller can
+start its clock (a progress bar's rate) after it. Processes that need the
+same loop at once (a sweep's workers, MPI ranks, parallel tests) compile it
+one at a time under a lock beside numba's cache files: the first one
+compiles and writes the cache, the others load it. A cache entry that fails
+to load (damaged, or written by an incompatible build) is dropped and the
+loop compiled anew.
 """
 
+import sys
 import types
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
 from numba import njit
+
+from ..disk_cache import locked
+from .contract import FASTMATH
 
 KEPT_VERSIONS = 8  # compiled versions of a loop kept on disk (laws in use, package edits)
 
@@ -39,8 +63,8 @@ class LawKernel:
         compiled = self._compiled.get(law.fingerprint)
         if compiled is None:
             namespace = dict(self.py_func.__globals__)
-            namespace["law_update"] = law.update
-            namespace["law_energy"] = law.stored_energy
+            namespace["law_update"] = _called(law, "update")
+            namespace["law_energy"] = _called(law, "stored_energy")
             f = self.py_func
             for name in f.__code__.co_names:  # the law kernels this one calls
                 value = namespace.get(name)
@@ -57,6 +81,110 @@ class LawKernel:
                 _prune(compiled, f"{Path(f.__code__.co_filename).stem}.{f.__qualname__}__")
         return compiled
 
+    def prepared(self, law, args, what: str):
+        """This function compiled with ``law`` for ``args``' types, loaded or compiled now
+        (announced: "compiling <what> for <law>, first run only"); see the module."""
+        dispatcher = self.for_law(law)
+        ready(dispatcher, args, f"{what} for {law_label(law)}")
+        return dispatcher
+
+
+_CALLED = {}
+
+
+def _called(law, name: str):
+    """The law's function ``name`` compiled as a function the loops call (see the module),
+    with the options contract.py compiles it with, less the inlining."""
+    key = (law.fingerprint, name)
+    if key not in _CALLED:
+        function = getattr(law, name)
+        options = {key: value for key, value in getattr(function, "targetoptions", {}).items()
+                   if key in ("error_model", "fastmath", "boundscheck")}
+        py_func = getattr(function, "py_func", function)
+        _CALLED[key] = njit(cache=True, **{"error_model": "numpy", "fastmath": FASTMATH,
+                                           **options})(py_func)
+    return _CALLED[key]
+
+
+def law_label(law) -> str:
+    """The law as a user named it: a built-in's name, a law file's name, a module's name."""
+    return Path(law.name).name if law.name.endswith(".py") else law.name
+
+
+_announcing = [True]
+
+
+@contextmanager
+def unannounced():
+    """Compile without a line per loop (the caller has said what it compiles: vibrofric.warm)."""
+    _announcing[0] = False
+    try:
+        yield
+    finally:
+        _announcing[0] = True
+
+
+def announce(text: str) -> None:
+    """One line on stderr, clear of any progress bar (tqdm's write)."""
+    if not _announcing[0]:
+        return
+    from tqdm import tqdm
+
+    tqdm.write(f"vibrofric: {text}", file=sys.stderr)
+
+
+def signature(dispatcher, args) -> tuple:
+    """The numba argument types of a call with ``args`` (as the dispatcher types them)."""
+    return tuple(dispatcher.typeof_pyval(value) for value in args)
+
+
+def will_compile(dispatcher, args) -> bool:
+    """Whether calling ``dispatcher`` with ``args`` compiles: neither in memory nor in
+    numba's cache index on disk (a cached entry may still fail to load: ``ready``)."""
+    sig = signature(dispatcher, args)
+    if sig in dispatcher.overloads:
+        return False
+    cache = dispatcher._cache          # numba's FunctionCache (NullCache without cache=True)
+    try:
+        key = cache._index_key(sig, dispatcher.targetctx.codegen())
+        return key not in cache._cache_file._load_index()
+    except Exception:                  # no cache, or an index numba cannot read
+        return True
+
+
+@contextmanager
+def _compile_lock(dispatcher):
+    """An exclusive lock beside the function's numba cache files (none without a cache)."""
+    with ExitStack() as stack:
+        try:
+            cache = dispatcher._cache
+            stack.enter_context(locked(Path(cache._cache_path)
+                                       / f"{cache._cache_file._index_name}.lock"))
+        except (AttributeError, OSError):   # numba's NullCache, or no lock to be had there
+            pass
+        yield
+
+
+def ready(dispatcher, args, what: str) -> None:
+    """Make ``dispatcher``'s code for ``args``' types available in this process: from
+    memory, from numba's cache, or compiled once under the lock, announced."""
+    sig = signature(dispatcher, args)
+    if sig in dispatcher.overloads:
+        return
+    if will_compile(dispatcher, args):
+        announce(f"compiling {what}, first run only")
+    with _compile_lock(dispatcher):
+        try:
+            dispatcher.compile(sig)    # numba loads it from its cache if another process wrote it
+        except Exception:
+            # A damaged or foreign cache entry: drop this function's index and compile
+            # afresh; an error of the code itself comes again and is raised.
+            try:
+                dispatcher._cache.flush()
+            except Exception:
+                pass
+            dispatcher.compile(sig)
+
 
 def _prune(dispatcher, prefix: str) -> None:
     """Remove the compiled versions of a loop beyond the KEPT_VERSIONS most recent
@@ -67,7 +195,7 @@ def _prune(dispatcher, prefix: str) -> None:
         return
     versions = {}
     try:
-        for path in directory.glob(prefix + "*.nb[ic]"):
+        for path in directory.glob(prefix + "*.nb[ic]*"):  # with the .nbi.lock files
             fingerprint = path.name[len(prefix):].split("-", 1)[0]
             versions.setdefault(fingerprint, []).append((path.stat().st_mtime, path))
         newest = sorted(versions, key=lambda key: max(versions[key])[0], reverse=True)

@@ -186,9 +186,11 @@ def block_mesh_model(size=DEFAULT_SIZE, level: str = "coarse"):
 
 
 def default_cache_dir() -> Path:
-    """The default mesh cache: $VIBROFRIC_CACHE/meshes, else ~/.cache/vibrofric/meshes."""
-    root = os.environ.get("VIBROFRIC_CACHE") or Path.home() / ".cache" / "vibrofric"
-    return Path(root) / "meshes"
+    """The default mesh cache: meshes/ in disk_cache.cache_root() ($VIBROFRIC_CACHE, else
+    $XDG_CACHE_HOME/vibrofric, else ~/.cache/vibrofric)."""
+    from ..disk_cache import cache_root
+
+    return cache_root() / "meshes"
 
 
 def block_mesh_file(size=DEFAULT_SIZE, level: str = "coarse", cache_dir=None) -> Path:

@@ -1,0 +1,78 @@
+"""The first answer's targets, whole commands timed as a user runs them (docs/first-answer.md).
+
+From empty caches (numba's and vibrofric's, both pointed at a new directory):
+
+    warm            python -m vibrofric.warm (what make setup runs; skipped where the
+                    package has none)
+    analytic        vibrofric analytic scenes/longitudinal.toml, the first after set-up
+    demo            make demo's command: vibrofric run scenes/longitudinal.toml --set time.T=0.3
+    fig7 reduced    vibrofric run ... fem.integrator=reduced, time.dt=1e-5, T=0.3: first, repeat
+    user law        examples/laws/maxwell_slip.py with a constant changed, its first FE run
+                    (maxwell_slip.toml, time.T=0.3) and the repeat
+
+    python benchmarks/first_answer.py
+"""
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+FIG7 = ["--set", "fem.integrator=reduced", "--set", "time.dt=1e-5", "--set", "time.T=0.3"]
+
+
+def timed(label: str, args, env, cwd=ROOT) -> float:
+    start = time.perf_counter()
+    done = subprocess.run([sys.executable, *args], env=env, cwd=cwd, capture_output=True,
+                          text=True)
+    seconds = time.perf_counter() - start
+    if done.returncode != 0:
+        raise SystemExit(f"{label} failed:\n{done.stderr}")
+    said = [line for line in done.stderr.splitlines() if "compiling" in line]
+    print(f"{label:28s} {seconds:7.2f} s" + (f"   ({'; '.join(said)})" if said else ""),
+          flush=True)
+    return seconds
+
+
+def main() -> None:
+    cpu = next((line.split(":", 1)[1].strip() for line in
+                Path("/proc/cpuinfo").read_text().splitlines() if line.startswith("model name")),
+               "unknown")
+    print(f"machine: {cpu}, load average {os.getloadavg()[0]:.2f}", flush=True)
+    with tempfile.TemporaryDirectory() as scratch:
+        scratch = Path(scratch)
+        env = {**os.environ, "NUMBA_CACHE_DIR": str(scratch / "numba"),
+               "VIBROFRIC_CACHE": str(scratch / "cache"),
+               "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))}
+        # gmsh's .msh file, cached since before: made beforehand, not measured
+        subprocess.run([sys.executable, "-c", "from vibrofric.meshes import block_mesh_file; "
+                        "block_mesh_file()"], env=env, cwd=ROOT, check=True)
+        cli = ["-m", "vibrofric.cli"]
+        out = ["--out", str(scratch / "out"), "--force"]
+        if (ROOT / "vibrofric" / "warm.py").exists():
+            timed("warm (make setup)", ["-m", "vibrofric.warm"], env)
+        timed("analytic, first", [*cli, "analytic", "scenes/longitudinal.toml", *out], env)
+        timed("analytic, repeat", [*cli, "analytic", "scenes/longitudinal.toml", *out], env)
+        timed("demo, first", [*cli, "run", "scenes/longitudinal.toml", "--set", "time.T=0.3", *out],
+              env)
+        timed("demo, repeat", [*cli, "run", "scenes/longitudinal.toml", "--set", "time.T=0.3",
+                               *out], env)
+        timed("fig7 reduced, first", [*cli, "run", "scenes/longitudinal.toml", *FIG7, *out], env)
+        timed("fig7 reduced, repeat", [*cli, "run", "scenes/longitudinal.toml", *FIG7, *out], env)
+        law = (ROOT / "examples" / "laws" / "maxwell_slip.py").read_text()
+        edited = law.replace("ELEMENTS = 4", "ELEMENTS = 3", 1)
+        assert edited != law
+        (scratch / "maxwell_slip.py").write_text(edited)
+        (scratch / "maxwell_slip.toml").write_text(
+            (ROOT / "examples" / "laws" / "maxwell_slip.toml").read_text())
+        scene = str(scratch / "maxwell_slip.toml")
+        timed("user law FE run, first", [*cli, "run", scene, "--set", "time.T=0.3", *out], env)
+        timed("user law FE run, repeat", [*cli, "run", scene, "--set", "time.T=0.3", *out], env)
+    print(f"load average after: {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,291 @@
+"""A first answer without hidden work: the model cache (disk_cache.py, fem/model_cache.py)
+and the compile announcement and lock (friction_law/specialize.py)."""
+
+import json
+import subprocess
+import sys
+import uuid
+
+import numpy as np
+import pytest
+
+from vibrofric import disk_cache
+from vibrofric.friction_law import specialize
+
+from conftest import ROOT, child_environment
+
+LAW = ROOT / "examples" / "laws" / "maxwell_slip.py"
+
+
+# --- disk_cache: checked, atomic entries --------------------------------------------------------
+
+def test_an_entry_reads_back_bit_for_bit(tmp_path):
+    arrays = {"a": np.random.default_rng(1).standard_normal((7, 3)), "n": np.arange(5),
+              "x": np.float64(0.1)}
+    disk_cache.write_arrays(tmp_path / "e.npz", arrays)
+    back = disk_cache.read_arrays(tmp_path / "e.npz")
+    assert set(back) == set(arrays)
+    for name, value in arrays.items():
+        assert back[name].dtype == np.asarray(value).dtype
+        assert np.array_equal(back[name], value)
+    assert [p.name for p in tmp_path.iterdir()] == ["e.npz"]  # no temporary file left
+
+
+@pytest.mark.parametrize("damage", ["flip", "truncate", "empty", "garbage"])
+def test_a_damaged_entry_is_removed_and_rebuilt(tmp_path, damage):
+    path = tmp_path / "e.npz"
+    builds = []
+
+    def build():
+        builds.append(1)
+        return {"a": np.arange(100.0)}
+
+    disk_cache.cached_arrays(path, build)
+    data = bytearray(path.read_bytes())
+    if damage == "flip":
+        data[-10] ^= 0x01
+    elif damage == "truncate":
+        data = data[:len(data) // 2]
+    elif damage == "empty":
+        data = b""
+    else:
+        data = b"not an entry at all"
+    path.write_bytes(bytes(data))
+    assert disk_cache.read_arrays(path) is None and not path.exists()
+    arrays, hit = disk_cache.cached_arrays(path, build)
+    assert not hit and len(builds) == 2 and np.array_equal(arrays["a"], np.arange(100.0))
+    arrays, hit = disk_cache.cached_arrays(path, build)
+    assert hit and len(builds) == 2
+
+
+def test_a_cache_that_cannot_be_written_is_passed_by(tmp_path):
+    (tmp_path / "a file").write_text("")
+    path = tmp_path / "a file" / "models" / "e.npz"   # under a file: no directory there
+    for _ in range(2):
+        arrays, hit = disk_cache.cached_arrays(path, lambda: {"a": np.arange(3.0)})
+        assert not hit and np.array_equal(arrays["a"], np.arange(3.0))
+
+
+def test_prune_keeps_the_most_recently_used(tmp_path):
+    import os
+
+    for k in range(5):
+        disk_cache.write_arrays(tmp_path / f"block-{k}.npz", {"k": np.array(k)})
+        os.utime(tmp_path / f"block-{k}.npz", (1000 + k, 1000 + k))
+    os.utime(tmp_path / "block-0.npz", (2000, 2000))     # used last
+    disk_cache.write_arrays(tmp_path / "other.npz", {"k": np.array(9)})
+    disk_cache.prune(tmp_path, "block-*.npz", 2)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["block-0.npz", "block-4.npz",
+                                                           "other.npz"]
+
+
+def test_the_cache_directory_follows_xdg(monkeypatch, tmp_path):
+    monkeypatch.delenv("VIBROFRIC_CACHE", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    assert disk_cache.cache_root() == tmp_path / "vibrofric"
+    monkeypatch.setenv("VIBROFRIC_CACHE", str(tmp_path / "own"))
+    assert disk_cache.cache_root() == tmp_path / "own"
+
+
+# --- the FE model cache -------------------------------------------------------------------------
+
+@pytest.fixture
+def model_cache_dir(monkeypatch, tmp_path):
+    pytest.importorskip("dolfinx")
+    monkeypatch.setenv("VIBROFRIC_CACHE", str(tmp_path))
+    monkeypatch.setenv("VIBROFRIC_MODEL_CACHE", "1")
+    return tmp_path / "models"
+
+
+def _short_scene(load_scene, integrator, dt):
+    return load_scene("longitudinal", vibration__t_on=0.0005, time__T=0.0025,
+                      time__average_cycles=2, time__dt=dt, fem__integrator=integrator,
+                      fem__output_every=0)
+
+
+def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene, monkeypatch):
+    from mpi4py import MPI
+
+    from vibrofric.fem import model, model_cache, reduction
+
+    scene = _short_scene(load_scene, "reduced", 1e-5)
+    first = model.build_model(scene, MPI.COMM_SELF)
+    reduction.forget()
+    first_reduction = reduction.reduced(first, scene.fem.cutoff * scene.vibration.f)
+    entries = sorted(p.name.split("-")[0] for p in model_cache_dir.glob("*.npz"))
+    assert entries == ["block", "reduction"]
+
+    def no_assembly(*args, **kwargs):
+        raise AssertionError("assembled again despite the cache")
+
+    def no_reduction(*args, **kwargs):
+        raise AssertionError("reduced again despite the cache")
+
+    monkeypatch.setattr(model_cache, "assemble_block", no_assembly)
+    monkeypatch.setattr(reduction.Reduction, "__init__", no_reduction)
+    reduction.forget()
+    second = model.build_model(scene, MPI.COMM_SELF)
+    second_reduction = reduction.reduced(second, scene.fem.cutoff * scene.vibration.f)
+    assert second.disc.space is None              # DOLFINx untouched
+    for name in ("coordinates", "mass"):
+        assert np.array_equal(getattr(first.disc, name), getattr(second.disc, name))
+    K1, K2 = first.disc.stiffness, second.disc.stiffness
+    assert (np.array_equal(K1.indptr, K2.indptr) and np.array_equal(K1.indices, K2.indices)
+            and np.array_equal(K1.data, K2.data))
+    assert np.array_equal(first.u0, second.u0) and first.dt_stable == second.dt_stable
+    for name in reduction.Reduction.STORED:
+        assert np.array_equal(getattr(first_reduction, name), getattr(second_reduction, name))
+    reduction.forget()
+
+
+def test_a_corrupt_model_entry_is_rebuilt(model_cache_dir, load_scene):
+    from mpi4py import MPI
+
+    from vibrofric.fem import model
+
+    scene = _short_scene(load_scene, "explicit", 1e-6)
+    first = model.build_model(scene, MPI.COMM_SELF)
+    (entry,) = model_cache_dir.glob("block-*.npz")
+    data = bytearray(entry.read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    entry.write_bytes(bytes(data))
+    again = model.build_model(scene, MPI.COMM_SELF)
+    assert again.disc.space is not None            # assembled anew, not read
+    assert np.array_equal(first.disc.stiffness.data, again.disc.stiffness.data)
+    assert disk_cache.read_arrays(entry) is not None  # and stored again, whole
+
+
+@pytest.mark.parametrize("integrator, dt", [("explicit", 1e-6), ("reduced", 1e-5)])
+def test_results_are_bit_identical_with_and_without_the_cache(model_cache_dir, load_scene,
+                                                              monkeypatch, integrator, dt):
+    from vibrofric.fem import reduction, run_fe
+
+    scene = _short_scene(load_scene, integrator, dt)
+    monkeypatch.setenv("VIBROFRIC_MODEL_CACHE", "0")
+    reduction.forget()
+    without = run_fe(scene)
+    assert not model_cache_dir.exists()
+    monkeypatch.setenv("VIBROFRIC_MODEL_CACHE", "1")
+    reduction.forget()
+    run_fe(scene)                    # writes the entries
+    reduction.forget()
+    cached = run_fe(scene)           # reads them
+    assert cached.info["integrator"] == integrator
+    assert np.array_equal(without.series.table(), cached.series.table())
+    for name, field in without.fields.items():
+        assert np.array_equal(field, cached.fields[name]), name
+    reduction.forget()
+
+
+def test_frames_from_a_cached_model_load_the_mesh(model_cache_dir, load_scene, tmp_path):
+    from vibrofric.fem import run_fe
+
+    scene = _short_scene(load_scene, "explicit", 1e-6).with_values({"fem.output_every": 1000})
+    first = run_fe(scene, vtk_dir=tmp_path / "a")
+    second = run_fe(scene, vtk_dir=tmp_path / "b")
+    assert first.info["frames"] == second.info["frames"] > 1
+    assert (sorted(p.name for p in (tmp_path / "a").iterdir())
+            == sorted(p.name for p in (tmp_path / "b").iterdir()))
+    assert ((tmp_path / "a" / "block_p0_000001.vtu").read_bytes()
+            == (tmp_path / "b" / "block_p0_000001.vtu").read_bytes())
+
+
+# --- compiling: announced, once, never from a damaged cache -------------------------------------
+
+def _new_law(tmp_path, elements: int) -> str:
+    """maxwell_slip.py with another element count: a law numba has never compiled, and
+    a scene of it (examples/laws/maxwell_slip.toml's) beside it."""
+    text = LAW.read_text()
+    changed = text.replace("ELEMENTS = 4", f"ELEMENTS = {elements}", 1)
+    assert changed != text
+    changed += f"# {uuid.uuid4().hex}: a source no earlier test run has compiled\n"
+    path = tmp_path / f"slip{elements}.py"
+    path.write_text(changed)
+    scene = LAW.with_suffix(".toml").read_text().replace('"maxwell_slip.py"', f'"{path.name}"')
+    (tmp_path / f"slip{elements}.toml").write_text(scene)
+    return str(path)
+
+
+def _analytic(tmp_path, scene="scenes/longitudinal.toml", numba_cache=None):
+    env = child_environment(**({"NUMBA_CACHE_DIR": str(numba_cache)} if numba_cache else {}))
+    done = subprocess.run(
+        [sys.executable, "-m", "vibrofric.cli", "analytic", str(scene),
+         "--set", "time.T=0.02", "--set", "vibration.t_on=0.005", "--set", "time.average_cycles=4",
+         "--out", str(tmp_path / "out"), "--force", "--json"],
+        cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    return done
+
+
+def test_a_new_law_announces_its_compile_once(tmp_path):
+    law = _new_law(tmp_path, 6)
+    first = _analytic(tmp_path, law.replace(".py", ".toml"), numba_cache=tmp_path / "numba")
+    assert ("vibrofric: compiling the coupled analytic stepper for slip6.py, first run only"
+            in first.stderr)
+    second = _analytic(tmp_path, law.replace(".py", ".toml"), numba_cache=tmp_path / "numba")
+    assert "compiling" not in second.stderr
+    assert json.loads(first.stdout)["F_dv"] == json.loads(second.stdout)["F_dv"]
+
+
+def test_a_warmed_built_in_law_compiles_nothing(tmp_path):
+    _analytic(tmp_path)                   # loads or compiles the Dahl stepper
+    again = _analytic(tmp_path)
+    assert "compiling" not in again.stderr
+
+
+def test_will_compile_sees_memory_and_disk(tmp_path, monkeypatch):
+    from vibrofric import scene as scene_module
+    from vibrofric.analytic.coupled import coupled_loop, load_coupled
+
+    monkeypatch.chdir(ROOT)
+    scene = scene_module.load(ROOT / "scenes" / "longitudinal.toml").with_law(_new_law(tmp_path, 7))
+    law = scene.friction.law
+    args = (0.5, 1.0, 1.0, False, 1.0, 1.0, 0.0, 1.0, 0.0, 0.0, 55.0,
+            law.initial_state(1)[0], scene.friction.params, 1e-6, 0, 1, 1, 1.0,
+            np.empty((0, 8)))
+    dispatcher = coupled_loop.for_law(law)
+    assert specialize.will_compile(dispatcher, args)
+    load_coupled(scene)
+    assert not specialize.will_compile(dispatcher, args)
+
+
+def test_a_damaged_numba_cache_entry_is_compiled_anew(tmp_path):
+    law = _new_law(tmp_path, 8)
+    cache = tmp_path / "numba"
+    first = _analytic(tmp_path, law.replace(".py", ".toml"), numba_cache=cache)
+    damaged = [path for path in cache.rglob("*coupled_loop__*.nbc")]
+    assert damaged
+    for path in damaged:
+        path.write_bytes(b"\x80\x04garbage, not a pickle")
+    again = _analytic(tmp_path, law.replace(".py", ".toml"), numba_cache=cache)
+    assert json.loads(again.stdout)["F_dv"] == json.loads(first.stdout)["F_dv"]
+
+
+# --- honest progress ----------------------------------------------------------------------------
+
+def test_the_loop_reports_its_start_before_any_step(load_scene):
+    pytest.importorskip("dolfinx")
+    from vibrofric.fem import run_fe
+
+    reports = []
+    scene = _short_scene(load_scene, "explicit", 1e-6)
+    run_fe(scene, progress=lambda done, total: reports.append(done))
+    assert reports[0] == 0.0 and reports.count(0.0) == 1 and reports[-1] > 0.0
+
+
+def test_the_bar_restarts_its_clock_when_the_loop_starts():
+    import argparse
+    import time
+
+    from vibrofric import cli
+
+    progress, bar = cli._progress_bar(argparse.Namespace(json=False), "FE", 0.3)
+    try:
+        bar.start_t -= 100.0          # as if set-up and compiling had taken 100 s
+        progress(0.0, 0.3)            # the time loop starts
+        assert bar.n == 0 and time.time() - bar.start_t < 100.0
+        progress(0.1, 0.3)
+        progress(30000 * 1e-5, 0.3)   # the last step's time, a rounding past T
+        assert bar.n == bar.total == 0.3
+    finally:
+        bar.close()

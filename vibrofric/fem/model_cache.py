@@ -1,0 +1,158 @@
+"""The FE model's costly parts kept on disk between runs: the block and its reduction.
+
+A run's set-up meshes the block (gmsh), assembles K, the lumped M and the
+face areas (DOLFINx) and, for the reduced integrator, builds the Craig-Bampton
+basis (reduction.py). A repeat run, or every point of a sweep on one block,
+would build the same again. This module keeps them in
+``disk_cache.cache_root()/models``:
+
+    block-<key>.npz       coordinates, K (CSR arrays), M, face areas, volume: keyed by
+                          the block's size, mesh level, E, nu, density, the faces
+                          asked for, the DOLFINx version and the package's
+    reduction-<key>.npz   reduction.Reduction's arrays: keyed by the model's content
+                          (reduction.model_key), the cutoff, numpy's, scipy's and
+                          the package's versions
+    compliance-<key>.npz  the full model's dynamic compliance at one frequency, for the
+                          reduction's error estimate (reduction.compliance_error):
+                          keyed by the model's content, k_t, the frequency and the
+                          same versions
+
+A key covers everything the entry is computed from, so an entry is either
+right or never looked up; "the package's version" is its version and the hash
+of its sources (friction_law.contract.package_hash), so an edited package
+builds afresh. Entries are checked and written atomically (disk_cache.py):
+a damaged one is rebuilt, never used; processes building the same entry at
+once build it once. A block read from the cache loads its DOLFINx space only
+if the run writes ParaView frames (assembly.Discretization.vector_space).
+
+The values are the computed arrays stored bit for bit (.npz of float64): a
+run gives the same results with or without the cache.
+VIBROFRIC_MODEL_CACHE=0 turns it off.
+"""
+
+import functools
+import hashlib
+import importlib.metadata
+import importlib.util
+import json
+import os
+
+import numpy as np
+import scipy.sparse as sp
+
+from .. import __version__, disk_cache
+from ..friction_law.contract import package_hash
+from . import dolfinx_adapter
+from .assembly import Discretization, assemble_block
+
+FORMAT = 1   # the entries' layout: a change here makes every entry anew
+# Entries of each kind kept: the most recently used (a reduction of the "fine" mesh
+# holds its dense basis, ~270 MB; the "coarse" one's ~0.6 MB).
+KEPT_ENTRIES = 12
+
+
+def enabled() -> bool:
+    """Whether the model cache is used (VIBROFRIC_MODEL_CACHE=0 turns it off)."""
+    return os.environ.get("VIBROFRIC_MODEL_CACHE", "1") != "0"
+
+
+def directory():
+    return disk_cache.cache_root() / "models"
+
+
+@functools.cache
+def dolfinx_version() -> str:
+    """The installed DOLFINx's version, read without importing it (that takes ~0.5 s)."""
+    for name in ("fenics-dolfinx", "dolfinx-solver-real", "dolfinx"):
+        try:
+            return f"{name} {importlib.metadata.version(name)}"
+        except importlib.metadata.PackageNotFoundError:
+            continue
+    spec = importlib.util.find_spec("dolfinx")
+    if spec is None or spec.origin is None:
+        return "none"
+    return f"{spec.origin} {os.stat(spec.origin).st_mtime_ns}"
+
+
+def entry_path(kind: str, parts: dict):
+    """The file of the entry of ``kind`` computed from ``parts`` (with the package's version)."""
+    keyed = {**parts, "kind": kind, "format": FORMAT, "vibrofric": __version__,
+             "sources": package_hash()}
+    digest = hashlib.sha256(json.dumps(keyed, sort_keys=True).encode()).hexdigest()[:32]
+    return directory() / f"{kind}-{digest}.npz"
+
+
+def cached(kind: str, parts: dict, build) -> dict:
+    """The arrays of the entry (kind, parts), ``build()`` run and stored if it is missing."""
+    if not enabled():
+        return {name: np.asarray(value) for name, value in build().items()}
+    path = entry_path(kind, parts)
+    arrays, hit = disk_cache.cached_arrays(path, build)
+    if hit:
+        _touch(path)
+    else:
+        disk_cache.prune(path.parent, f"{kind}-*.npz", KEPT_ENTRIES)
+    return arrays
+
+
+def _touch(path) -> None:
+    """Mark an entry used now (prune keeps the most recently used)."""
+    try:
+        os.utime(path)
+    except OSError:
+        pass
+
+
+def _packed(disc: Discretization, faces) -> dict:
+    K = disc.stiffness
+    arrays = {"coordinates": disc.coordinates, "K_data": K.data, "K_indices": K.indices,
+              "K_indptr": K.indptr, "K_shape": np.array(K.shape), "mass": disc.mass,
+              "volume": disc.volume}
+    for tag in faces:
+        arrays[f"face_{tag}"] = disc.face_area[tag]
+    return arrays
+
+
+def _unpacked(arrays: dict, level: str, faces) -> Discretization:
+    K = sp.csr_matrix((arrays["K_data"], arrays["K_indices"], arrays["K_indptr"]),
+                      shape=tuple(int(n) for n in arrays["K_shape"]))
+    K.has_sorted_indices = True   # as dolfinx_adapter made it (sorted before it was stored)
+    return Discretization(level=level, coordinates=arrays["coordinates"], stiffness=K,
+                          mass=arrays["mass"],
+                          face_area={tag: arrays[f"face_{tag}"] for tag in faces},
+                          volume=float(arrays["volume"]))
+
+
+def _space_loader(size, level, coordinates):
+    """load_space for a cached block: the mesh read again, its nodes checked against the entry's."""
+
+    def load(comm):
+        mesh, _ = dolfinx_adapter.load_block(dolfinx_adapter.communicator(comm), size, level)
+        V = dolfinx_adapter.vector_space(mesh)
+        if not np.array_equal(dolfinx_adapter.node_coordinates(V), coordinates):
+            raise RuntimeError("the cached FE model's nodes are not the mesh's: clear the "
+                               "cache (make clean-cache) and run again")
+        return V
+
+    return load
+
+
+def block(comm, size, level, E, nu, density, faces) -> Discretization:
+    """assembly.assemble_block's Discretization, from the cache when it holds it
+    (``comm`` None: MPI.COMM_SELF, started only if DOLFINx is needed)."""
+    faces = tuple(faces)
+    parts = {"size": [float(s) for s in size], "level": level, "E": float(E), "nu": float(nu),
+             "density": float(density), "faces": list(faces), "dolfinx": dolfinx_version()}
+    built = []
+
+    def build():
+        built.append(assemble_block(dolfinx_adapter.communicator(comm), size, level, E, nu,
+                                    density, faces))
+        return _packed(built[0], faces)
+
+    disc = _unpacked(cached("block", parts, build), level, faces)
+    if built:
+        disc.space = built[0].space    # assembled just now: its space is at hand
+    else:
+        disc.load_space = _space_loader(size, level, disc.coordinates)
+    return disc

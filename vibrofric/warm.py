@@ -1,0 +1,53 @@
+"""Compile at set-up, not at first use: ``python -m vibrofric.warm`` (``vibrofric warm``).
+
+numba compiles every time loop for each friction law (friction_law/specialize.py)
+and keeps what it compiled on disk. This runs a few steps of the Fig 7 scene
+with each built-in law through each stepper and integrator, so that numba's
+cache holds every built-in law's loops and the model cache (fem/model_cache.py)
+the default block: the first ``vibrofric run`` or ``analytic`` after
+``make setup`` (which runs this) compiles nothing. A user's law still
+compiles on its first run, and says so.
+"""
+
+import sys
+
+from .friction_law.contract import BUILT_IN
+from .friction_law.specialize import unannounced
+
+# The paper's Fig 7 scene (scenes/longitudinal.toml), a few cycles long.
+SCENE = {
+    "body": {"mass": 0.5},
+    "contact": {"law": "dahl", "mu": 0.1, "F_N": 55.0, "k_t": 80e6},
+    "drive": {"k_d": 96068.0, "v_d": 0.0005},
+    "vibration": {"f": 4000.0, "k_v": 6.0, "theta_deg": 0.0, "t_on": 0.001},
+    "time": {"T": 0.003, "dt": 1e-6, "average_cycles": 4},
+    "fem": {"output_every": 0},
+}
+INTEGRATORS = {"explicit": 1e-6, "implicit": 1e-5, "reduced": 1e-5}   # with their time.dt
+STEPPERS = {"coupled": tuple(BUILT_IN), "longitudinal": ("dahl",)}   # longitudinal: Dahl's [23]
+
+
+def warm(fe: bool = True) -> None:
+    """Load or compile every built-in law's loops (and build the default FE model)."""
+    from . import scene as scene_module
+    from .analytic.run import run
+
+    print("vibrofric: compiling the built-in friction laws' loops (" + ", ".join(BUILT_IN)
+          + ") for the analytic steppers" + (" and every FE integrator" if fe else "")
+          + ": once, at set-up", file=sys.stderr, flush=True)
+    base = scene_module.from_dict(SCENE, "warm")
+    with unannounced():
+        for law in BUILT_IN:
+            scene = base if law == "dahl" else base.with_law(law)
+            for stepper, laws in STEPPERS.items():
+                if law in laws:
+                    run(scene, stepper)
+            if fe:
+                from .fem import run_fe
+
+                for integrator, dt in INTEGRATORS.items():
+                    run_fe(scene.with_values({"fem.integrator": integrator, "time.dt": dt}))
+
+
+if __name__ == "__main__":
+    warm()
