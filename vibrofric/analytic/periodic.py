@@ -211,7 +211,7 @@ class Orbit:
         if not self.floquet.size:
             return False
         lead = self.floquet[0]
-        return abs(lead.imag) < 1e-6 and lead.real <= -STABLE
+        return bool(abs(lead.imag) < 1e-6 and lead.real <= -STABLE)
 
 
 class CycleMap:
