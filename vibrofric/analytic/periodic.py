@@ -391,7 +391,12 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
     orbit = Orbit(converged, stable, z, cycle, iterations, phi.cycles, norm, multipliers,
                   phi.dt, phi.steps, perf_counter() - begin, reason)
     if converged and not stable:
-        kind = "period doubling (multiplier near -1)" if orbit.period_doubling else "unstable"
+        if orbit.period_doubling:
+            kind = "unstable by period doubling (a multiplier beyond -1)"
+        elif orbit.floquet_max_modulus < 1.0 + 1e-6:
+            kind = "not attracting (a multiplier on the unit circle: an undamped mode)"
+        else:
+            kind = "unstable"
         orbit.reason = (f"the periodic orbit is {kind}: largest Floquet multiplier modulus "
                         f"{orbit.floquet_max_modulus:.6g}")
     return orbit
