@@ -125,6 +125,23 @@ def test_an_undamped_drive_is_reported_as_not_attracting(load_scene):
     assert block["method"] == "transient" and "unit circle" in block["reason"]
 
 
+def test_a_period_doubling_orbit_is_reported_and_the_run_stepped(load_scene):
+    """k_v = 1 along X with a 100 times stiffer contact: the period-1 orbit has a
+    multiplier beyond -1, and the stepped run indeed does not repeat cycle after cycle
+    (its friction force differs by ~2.3 N, 45% of F_c, from one cycle to the next)."""
+    scene = load_scene("coupled", vibration__k_v=1.0, vibration__theta_deg=0.0,
+                       contact__k_t=67.29e8, time__method="periodic")
+    series, summary = run(scene)
+    block = summary["periodic"]
+    assert block["converged"] and block["period_doubling"] and block["method"] == "transient"
+    assert block["floquet_max_modulus"] > 1.0 and "period doubling" in block["reason"]
+    steps = block["steps_per_cycle"]
+    stepped = scene.with_values({"time.dt": block["dt"], "time.series_dt": block["dt"]})
+    series, _ = run(stepped.with_values({"time.method": "transient"}))
+    last, before = series.F_x[-steps:], series.F_x[-2 * steps:-steps]
+    assert np.max(np.abs(last - before)) > 0.1 * scene.F_c   # not period 1
+
+
 def test_transient_stays_the_default_and_unchanged(load_scene):
     scene = load_scene("longitudinal")
     assert scene.time.method == "transient"
