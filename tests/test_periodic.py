@@ -151,3 +151,25 @@ def test_transient_stays_the_default_and_unchanged(load_scene):
 def test_an_unknown_method_is_refused(load_scene):
     with pytest.raises(scene_module.SceneError, match="time.method"):
         load_scene("longitudinal", time__method="harmonic")
+
+
+def test_a_sweep_by_continuation_finds_each_points_own_orbit(load_scene):
+    """Starting each point from its neighbour's orbit changes the path, not the answer:
+    every point equals its own periodic run from steady sliding to the Newton
+    tolerance (1e-11 of F_c; 1e-9 relative leaves room for the two paths' rounding)."""
+    from vibrofric.analytic.continuation import chunks, run_in_sequence
+    from vibrofric.batch import sweep
+
+    scene = load_scene("coupled", time__method="periodic")
+    grid = [("vibration.k_v", [3.0, 6.0]), ("vibration.theta_deg", [30.0, 45.0, 60.0])]
+    records = sweep(scene, grid, workers=1, progress=False)
+    points = [{"vibration.k_v": k, "vibration.theta_deg": t} for k in (3.0, 6.0)
+              for t in (30.0, 45.0, 60.0)]
+    alone = [run(scene.with_values(values))[1] for values in points]
+    for record, single in zip(records, alone):
+        assert record["periodic"]["method"] == single["periodic"]["method"] == "periodic"
+        assert math.isclose(record["F_dv"], single["F_dv"], rel_tol=1e-9)
+    in_order = run_in_sequence(scene, points)
+    assert sum(s["periodic"]["cycles_integrated"] for s in in_order) <= \
+        sum(s["periodic"]["cycles_integrated"] for s in alone)
+    assert [list(r) for r in chunks(7, 3)] == [[0, 1], [2, 3, 4], [5, 6]]

@@ -12,7 +12,15 @@ LOADERS = {"coupled": load_coupled, "longitudinal": load_longitudinal}
 
 
 def run(scene, stepper: str = "coupled", start=None):
-    """Integrate ``scene`` with the named stepper; return (TimeSeries, summary dict).
+    """Integrate ``scene`` with the named stepper; return (TimeSeries, summary dict)
+    (see run_with_orbit)."""
+    series, summary, _ = run_with_orbit(scene, stepper, start)
+    return series, summary
+
+
+def run_with_orbit(scene, stepper: str = "coupled", start=None):
+    """Integrate ``scene`` with the named stepper; return (TimeSeries, summary dict,
+    the periodic orbit's state or None).
 
     With time.method "periodic" or "auto" the steady cycle is found directly
     (periodic.find_orbit, from ``start`` if given: a neighbour's orbit state) and the
@@ -27,11 +35,11 @@ def run(scene, stepper: str = "coupled", start=None):
         load_cycle(scene, stepper)
         orbit = find_orbit(scene, stepper, start)
         if orbit.converged and orbit.stable:
-            return steady_series(orbit, scene), summarize_orbit(orbit, scene)
+            return steady_series(orbit, scene), summarize_orbit(orbit, scene), orbit.z
     LOADERS[stepper](scene)
     start_time = perf_counter()
     series = STEPPERS[stepper](scene)
     summary = summarize(series, scene, perf_counter() - start_time)
     if scene.time.method != "transient":
         summary["periodic"] = periodic_block(orbit, scene)
-    return series, summary
+    return series, summary, None
