@@ -1,10 +1,10 @@
 """Sweeps by continuation: each grid point's periodic orbit starts from its neighbour's.
 
 Along a row of a grid the steady state changes little from one point to the next,
-so the converged orbit state of one point (analytic/periodic.py) is a far better
-start for Newton than steady sliding: the Fig 12 study's 125 points need ~16%
-fewer cycles (docs/periodic.md). A point that falls back to stepping (no stable
-orbit) hands nothing on: the next starts from steady sliding again.
+so the converged orbit state of one point (analytic/periodic.py) is a better start
+for Newton than steady sliding (the Fig 12 study: docs/periodic.md). A point that
+falls back to stepping (no stable orbit) hands nothing on: the next starts from
+steady sliding again.
 """
 
 from .run import run_with_orbit
