@@ -173,3 +173,30 @@ def test_a_sweep_by_continuation_finds_each_points_own_orbit(load_scene):
     assert sum(s["periodic"]["cycles_integrated"] for s in in_order) <= \
         sum(s["periodic"]["cycles_integrated"] for s in alone)
     assert [list(r) for r in chunks(7, 3)] == [[0, 1], [2, 3, 4], [5, 6]]
+
+
+def test_analytic_command_reports_the_periodic_block_and_writes_the_steady_cycle(tmp_path, capsys):
+    import csv
+    import json
+
+    from vibrofric.cli import main
+
+    out = tmp_path / "run"
+    scene = str(ROOT / "scenes" / "coupled.toml")
+    assert main(["analytic", scene, "--set", "time.method=periodic", "--out", str(out),
+                 "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    block = document["periodic"]
+    assert {"method", "converged", "newton_iterations", "cycles_integrated", "residual",
+            "floquet_max_modulus"} <= set(block)
+    assert block["method"] == "periodic" and block["dt_adjusted"]
+    assert document["steps"] == block["cycles_integrated"] * block["steps_per_cycle"]
+    written = json.loads((out / "summary.json").read_text())["analytic"]
+    assert written["periodic"] == block
+    with open(out / "timeseries.csv") as f:
+        rows = list(csv.DictReader(f))
+    # four steady cycles ending at time.T, repeating: each row equals the one a cycle later
+    steps = block["steps_per_cycle"]
+    assert float(rows[-1]["t"]) == pytest.approx(1.0, abs=1e-9)
+    assert len(rows) >= 4 * steps
+    assert float(rows[-1]["F_d"]) == float(rows[-1 - steps]["F_d"])
