@@ -13,10 +13,10 @@ from vibrofric.analytic.run import run
 
 ROOT = Path(__file__).resolve().parent.parent
 
-# The shooting converges to 1e-11 of each unknown's natural size; the transient
+# The shooting converges to 1e-10 of each unknown's natural size; the transient
 # run to T = 1.2 s has had 1.06 s (3200-4200 cycles) to settle, and its slowest
 # mode (the drive spring, multiplier ~0.985 a cycle) has decayed to below 1e-20 by
-# then: the two agree to rounding (measured ~1e-11). 1e-5 is the issue's bound.
+# then: the two agree to rounding (measured 1e-12 to 1e-9). 1e-5 is the issue's bound.
 RELATIVE = 1e-5
 
 CASES = {
@@ -156,7 +156,7 @@ def test_an_unknown_method_is_refused(load_scene):
 def test_a_sweep_by_continuation_finds_each_points_own_orbit(load_scene):
     """Starting each point from its neighbour's orbit changes the path, not the answer:
     every point equals its own periodic run from steady sliding to the Newton
-    tolerance (1e-11 of F_c; 1e-9 relative leaves room for the two paths' rounding)."""
+    tolerance (1e-10 of F_c, 5e-10 of F_dv here; 1e-9 relative leaves room for the two paths' rounding)."""
     from vibrofric.analytic.continuation import chunks, run_in_sequence
     from vibrofric.batch import sweep
 
@@ -200,3 +200,35 @@ def test_analytic_command_reports_the_periodic_block_and_writes_the_steady_cycle
     assert float(rows[-1]["t"]) == pytest.approx(1.0, abs=1e-9)
     assert len(rows) >= 4 * steps
     assert float(rows[-1]["F_d"]) == float(rows[-1 - steps]["F_d"])
+
+
+FIG_KV = (0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 10.0, 15.0, 20.0)
+GRIDS = {
+    "Fig 6": ("longitudinal", [{"vibration.k_v": k} for k in FIG_KV]),
+    "Fig 9": ("transverse", [{"vibration.k_v": k} for k in FIG_KV]),
+    "Fig 12": ("coupled", [{"vibration.k_v": k, "vibration.theta_deg": float(t)}
+                           for k in (2.0, 3.0, 4.0, 6.0, 20.0) for t in np.linspace(0, 360, 25)]),
+}
+
+
+@pytest.mark.slow   # ~1 min: a transient of 1.5 s at every point of the paper's grids
+@pytest.mark.parametrize("figure", list(GRIDS))
+def test_periodic_equals_the_settled_transient_over_the_papers_grids(load_scene, figure):
+    """Every point answered by its orbit equals the settled transient within 1e-5
+    (measured at most 3e-8: Fig 6 at k_v = 1.5, where the transient still drifts by
+    5e-9); the points not answered are those with k_v <= 1 along X, whose drive
+    oscillation nothing damps (test_an_undamped_drive_is_reported_as_not_attracting)."""
+    name, points = GRIDS[figure]
+    scene = load_scene(name, time__method="periodic")
+    for values in points:
+        point = scene.with_values(values)
+        _, answer = run(point)
+        block = answer["periodic"]
+        if block["method"] != "periodic":
+            assert values["vibration.k_v"] <= 1.0 and "unit circle" in block["reason"], values
+            continue
+        stepped = point.with_values({"time.method": "transient", "time.dt": block["dt"],
+                                     "time.T": 1.5})
+        transient = run(stepped)[1]["F_dv"]
+        assert math.isclose(answer["F_dv"], transient, rel_tol=RELATIVE), (values, answer["F_dv"],
+                                                                         transient)
