@@ -67,7 +67,7 @@ class Plan:
     law_fe: tuple = ()         # (integrator, mesh, dt) of the law rows' FE run; () for none
     breakdown_cases: tuple = ()  # (integrator, mesh, dt): a step's parts against the roofline
     mesh_study: tuple = ()     # (integrator, dt, (level, ...) coarse to fine): the spatial error
-    periodic: bool = False     # the periodic solver against the transient (analytic/periodic_bench.py)
+    periodic: bool = False     # the periodic solver against the transient (periodic_bench.py)
 
 
 _MESH_STEPS = (("tiny", 2e-6), ("coarse", 1e-6), ("medium", 5e-7))  # explicit: below each stable step
@@ -359,7 +359,7 @@ def bench(plan: Plan, progress=print) -> dict:
         laws.append(measure_law(scene, plan, label, law, parameters))
     periodic = None
     if plan.periodic:
-        from .analytic import periodic_bench
+        from . import periodic_bench
 
         progress("periodic steady state against the transient")
         periodic = periodic_bench.measure()
@@ -420,7 +420,7 @@ def markdown(result: dict) -> str:
     if result.get("breakdowns"):
         lines += [""] + breakdown_markdown(result["breakdowns"])
     if result.get("periodic"):
-        from .analytic import periodic_bench
+        from . import periodic_bench
 
         lines += [""] + periodic_bench.markdown(result["periodic"])
     return "\n".join(lines) + "\n"
