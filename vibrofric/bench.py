@@ -67,6 +67,7 @@ class Plan:
     law_fe: tuple = ()         # (integrator, mesh, dt) of the law rows' FE run; () for none
     breakdown_cases: tuple = ()  # (integrator, mesh, dt): a step's parts against the roofline
     mesh_study: tuple = ()     # (integrator, dt, (level, ...) coarse to fine): the spatial error
+    periodic: bool = False     # the periodic solver against the transient (periodic_bench.py)
 
 
 _MESH_STEPS = (("tiny", 2e-6), ("coarse", 1e-6), ("medium", 5e-7))  # explicit: below each stable step
@@ -95,6 +96,7 @@ QUICK = Plan(
     breakdown_cases=(("explicit", "coarse", 1e-6), ("implicit", "coarse", 1e-5),
                      ("reduced", "coarse", 1e-5)),
     mesh_study=("reduced", 1e-5, MESH_LEVELS),
+    periodic=True,
 )
 
 FULL = Plan(
@@ -115,6 +117,7 @@ FULL = Plan(
     breakdown_cases=QUICK.breakdown_cases + (("explicit", "medium", 5e-7),
                                              ("reduced", "medium", 1e-5)),
     mesh_study=("reduced", 1e-5, MESH_LEVELS + ("fine",)),
+    periodic=True,
 )
 
 
@@ -354,9 +357,15 @@ def bench(plan: Plan, progress=print) -> dict:
     for label, law, parameters in plan.laws:
         progress(f"friction law: {label}")
         laws.append(measure_law(scene, plan, label, law, parameters))
+    periodic = None
+    if plan.periodic:
+        from . import periodic_bench
+
+        progress("periodic steady state against the transient")
+        periodic = periodic_bench.measure()
     return {"plan": plan, "analytic_reference": analytic_reference, "fe_reference": fe_reference,
             "rows": rows, "growth": growth, "laws": laws, "breakdowns": breakdowns,
-            "mesh": mesh}
+            "mesh": mesh, "periodic": periodic}
 
 
 def markdown(result: dict) -> str:
@@ -410,6 +419,10 @@ def markdown(result: dict) -> str:
         lines += [""] + mesh_markdown(result["mesh"])
     if result.get("breakdowns"):
         lines += [""] + breakdown_markdown(result["breakdowns"])
+    if result.get("periodic"):
+        from . import periodic_bench
+
+        lines += [""] + periodic_bench.markdown(result["periodic"])
     return "\n".join(lines) + "\n"
 
 

@@ -190,9 +190,17 @@ def cmd_analytic(args) -> None:
                 output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
                 output.write_timeseries(stage, series)
     _warn_unsettled(summary)
+    periodic = summary.get("periodic")
+    if periodic and periodic["method"] == "transient" and periodic["reason"]:
+        print(f"warning: no periodic steady state: {periodic['reason']}; stepped through "
+              "time.T instead", file=sys.stderr)
+    how = (f" (periodic: {periodic['cycles_integrated']} cycles, largest Floquet multiplier "
+           f"{periodic['floquet_max_modulus']:.4f})" if periodic and periodic["method"] == "periodic"
+           else "")
     _emit(args, {**summary, "out": str(target)},
           f"F_dv/F_d0 = {_number(summary['F_dv_over_F_d0'])} (F_dv = {summary['F_dv']:.4f} N, "
-          f"F_d0 = {summary['F_d0']:.4f} N) in {summary['wall_time_s']:.3f} s; results in {target}")
+          f"F_d0 = {summary['F_d0']:.4f} N) in {summary['wall_time_s']:.3f} s{how}; "
+          f"results in {target}")
 
 
 def _progress_bar(args, what: str, total: float):

@@ -88,3 +88,48 @@ def unsettled_warning(summary: dict, label: str = "") -> str | None:
         moved = f"its mean moved by {drift:.2%} between the last two averaging windows"
     return (f"warning: the {what}cycle-averaged drive force has not settled: {moved} "
             f"(time.settle_tolerance {summary['settle_tolerance']:g}); lengthen time.T")
+
+
+def periodic_block(orbit, scene) -> dict:
+    """The summary's "periodic" block: how the shooting went (periodic.Orbit, or None
+    where it was not tried) and which method produced the answer."""
+    if orbit is None:
+        return {"method": "transient", "converged": False, "newton_iterations": 0,
+                "cycles_integrated": 0, "residual": None, "floquet_max_modulus": None,
+                "dt": scene.time.dt, "steps_per_cycle": None,
+                "reason": "no vibration: the steady state is steady sliding"}
+    periodic = orbit.converged and orbit.stable
+    return {"method": "periodic" if periodic else "transient",
+            "converged": orbit.converged,
+            "newton_iterations": orbit.newton_iterations,
+            "cycles_integrated": orbit.cycles_integrated,
+            "residual": float(orbit.residual) if math.isfinite(orbit.residual) else None,
+            "floquet_max_modulus": (float(orbit.floquet_max_modulus) if orbit.floquet.size else None),
+            "period_doubling": orbit.period_doubling,
+            "dt": float(orbit.dt),
+            "dt_adjusted": bool(orbit.dt != scene.time.dt),
+            "steps_per_cycle": orbit.steps,
+            "reason": orbit.reason}
+
+
+def summarize_orbit(orbit, scene) -> dict:
+    """The summary of a run answered by the periodic orbit (periodic.find_orbit): F_dv
+    the mean drive force over its cycle (eq 40 over one whole cycle, which equals the
+    mean over any number of them). No breakaway time (the orbit starts after it);
+    settled, its drift 0: the orbit is the state the stepped run settles to."""
+    F_dv = float(np.mean(orbit.cycle[:, 1]))
+    if not math.isfinite(F_dv):
+        raise NumericalError(f"the cycle-averaged drive force is {F_dv}")
+    F_d0 = steady_drive_force(scene)
+    return {
+        "F_dv_over_F_d0": F_dv / F_d0 if F_d0 > 0.0 else None,
+        "F_dv": F_dv,
+        "F_d0": F_d0,
+        "breakaway_time_s": None,
+        "steps": orbit.cycles_integrated * orbit.steps,
+        "wall_time_s": orbit.solver_time_s,
+        "window_drift": 0.0,
+        "settled": True,
+        "settle_tolerance": scene.time.settle_tolerance,
+        "periodic": periodic_block(orbit, scene),
+    }

@@ -7,6 +7,7 @@ writes each point as it ends and resumes an interrupted sweep.
 
 from tqdm import tqdm
 
+from ..analytic.continuation import chunks, run_in_sequence
 from ..analytic.run import run
 from ..grid import grid_points
 from ..parallel import default_workers, run_on_pool
@@ -23,6 +24,12 @@ def _run_task(task):
     return run_point(scene, values)
 
 
+def _run_chunk(task):
+    """A contiguous run of grid points by continuation (analytic/continuation.py)."""
+    _, scene, points = task
+    return [{**values, **summary} for values, summary in zip(points, run_in_sequence(scene, points))]
+
+
 def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> list[dict]:
     """Run the analytic stepper at every grid point; results in grid order.
 
@@ -37,6 +44,16 @@ def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> lis
             results[task[0]] = record
             bar.update()
 
-        tasks = [(i, scene, values) for i, values in enumerate(points)]
-        run_on_pool(_run_task, tasks, workers or default_workers(), store)
+        workers = workers or default_workers()
+        if scene.time.method == "transient":
+            tasks = [(i, scene, values) for i, values in enumerate(points)]
+            run_on_pool(_run_task, tasks, workers, store)
+        else:   # periodic: each worker a contiguous run of the grid, by continuation
+            def store_chunk(task, records):
+                for i, record in zip(task[0], records):
+                    store((i,), record)
+
+            tasks = [(part, scene, [points[i] for i in part])
+                     for part in chunks(len(points), 4 * workers)]
+            run_on_pool(_run_chunk, tasks, workers, store_chunk)
     return results

@@ -69,6 +69,11 @@ class Outcome:
     def summary_line(self) -> str:
         line = (f"sweep: {len(self.records)} points ({self.reused} reused), {len(self.failed)} failed, "
                 f"{len(self.unsettled)} unsettled, {self.wall_time_s:.1f} s")
+        methods = [r["periodic"]["method"] for r in self.records
+                   if ERROR not in r and isinstance(r.get("periodic"), dict)]
+        if methods:   # time.method periodic or auto (analytic/periodic.py)
+            line += (f"; {methods.count('periodic')} answered by their periodic orbit, "
+                     f"{methods.count('transient')} stepped")
         worst = self.worst_fe_error()
         if worst is not None:
             line += f"; worst |FE - analytic| / analytic {worst[0]:.2%} at {worst[1]}"

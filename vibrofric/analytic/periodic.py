@@ -1,0 +1,421 @@
+"""The steady state directly: the periodic orbit of the lumped steppers by shooting.
+
+Once the drive spring's transient has died out, the lumped model's motion is
+periodic with the base's period P = 1/f in the frame that moves with the drive:
+x - v_d t, the body's velocities, the friction force and the law's state return
+to themselves after one base cycle (the transverse position y is not restrained
+by any spring and only its increments enter the friction law, so it is left out).
+Instead of stepping through the whole transient (600 base cycles on the Fig 7
+scene to settle to 1e-4), we solve for that state z:
+
+    R(z) = Phi(z) - z = 0,     Phi = one base cycle of the SAME discrete stepper
+
+(coupled.coupled_loop / longitudinal.longitudinal_loop written from a given
+state; the step is the one of the transient run, or the nearest one that puts a
+whole number of steps in a cycle). So the periodic answer is the settled stepped
+answer of the same scheme to the Newton tolerance: no new discretization error,
+and every law works through the contract (its state is part of z).
+
+Newton's matrix dR/dz = M - I is built by finite differences (one cycle per
+unknown: the state has 5 + STATE_SIZE floats), the step is globalized by
+backtracking on the scaled residual, and plain cycles are run where Newton stalls.
+The eigenvalues of M, the cycle map's Jacobian, are the orbit's Floquet
+multipliers: the orbit is stable (and what a long transient run settles to) when
+all lie inside the unit circle; a multiplier on or outside it (near -1: period
+doubling) is reported and the orbit is not returned as the answer.
+
+Time-domain shooting on a map of the integrator: Keller, "Numerical solution of
+two point boundary value problems" (1976); for friction-damped systems e.g.
+Peletan et al., Nonlinear Dyn. 78 (2014), who use harmonic balance alongside.
+"""
+
+import math
+from dataclasses import dataclass, field
+from time import perf_counter
+
+import numpy as np
+
+from ..core.base_motion import base_displacement, vibration_axis
+from ..core.friction import divergence_force
+from ..core.series import PLOT_CYCLES, TimeSeries
+from ..friction_law import law_kernel
+from ..friction_law.contract import FASTMATH
+
+# Positions in the shooting state z (the law's state follows).
+X, VX, VY, FX, FY, LAW = range(6)
+TOLERANCE = 1e-10        # converged: every scaled residual component below this (the state is
+                         # scaled by its natural size, so this is ~1e-10 of F_c, of v_a, ...);
+                         # one cycle's rounding leaves ~2e-11 (Fig 9 at k_v = 2 stalls there)
+MAX_NEWTON = 40          # Newton iterations before giving up (each one 1 + n cycles)
+FD_STEP = 1e-7           # finite-difference step, relative to each unknown's scale: about the
+                         # square root of the rounding error of one cycle (~1e-14 relative)
+STABLE = 1.0 - 1e-6      # a Floquet multiplier modulus at or above this is not a stable orbit
+PRESLIDE_STEPS = 1_000_000  # at most this many law updates to reach steady sliding (initial guess)
+
+
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def coupled_cycle(z, mass, k_d, v_d, prescribed, u0, omega, cos_theta, sin_theta, eta_y,
+                  F_N, params, dt, steps, f_max, out):
+    """One base cycle of coupled.coupled_loop from the state ``z`` (at a zero of the
+    base's phase, eq 23); returns the state after ``steps`` steps (the base is back
+    at phase zero when steps dt = 1/f), or writes nothing and returns z[0] = NaN
+    if the law's force diverged. Rows of every step go to ``out`` (t from the
+    cycle's start, x in the drive's frame) when it has ``steps`` rows."""
+    state = z[LAW:].copy()
+    x, y, vx, vy = z[X], 0.0, z[VX], z[VY]
+    f_x, f_y = z[FX], z[FY]
+    xb = yb = 0.0
+    sin_phase, cos_phase = 0.0, 1.0
+    cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
+    record = out.shape[0] == steps
+    end = np.empty_like(z)
+    for i in range(1, steps + 1):
+        t = i * dt
+        if prescribed:
+            x_new, y_new = v_d * t, 0.0
+        else:
+            f_d = k_d * (v_d * (t - dt) - x)          # eq 17 at the start of the step
+            vx += dt * (f_d - f_x) / mass            # eq 12
+            vy += dt * (-f_y) / mass                 # eqs 15-16
+            x_new, y_new = x + dt * vx, y + dt * vy
+        u, sin_phase, cos_phase = base_displacement(i, dt, omega, 0.0, u0, sin_phase, cos_phase,
+                                                    cos_step, sin_step)  # eq 23
+        xb_new, yb_new = u * cos_theta, u * sin_theta  # eqs 24-25
+        f_x, f_y = law_update(  # noqa: F821 (the scene's law, friction_law/specialize.py)
+            (x_new - x) - (xb_new - xb), y_new - y,  # phase 1 (eq 14)
+            0.0, eta_y * (yb_new - yb),              # phase 2 (eq 30)
+            F_N, 1.0, state, params, dt)
+        x, y, xb, yb = x_new, y_new, xb_new, yb_new
+        f_d = f_x if prescribed else k_d * (v_d * t - x)  # eq 17
+        if not (math.sqrt(f_x * f_x + f_y * f_y) <= f_max and math.isfinite(f_d)):
+            end[:] = np.nan
+            return end
+        if record:
+            out[i - 1, 0] = t
+            out[i - 1, 1] = f_d
+            out[i - 1, 2] = f_x
+            out[i - 1, 3] = f_y
+            out[i - 1, 4] = x - v_d * t
+            out[i - 1, 5] = y
+            out[i - 1, 6] = xb
+            out[i - 1, 7] = yb
+    end[X] = x - v_d * steps * dt
+    end[VX], end[VY], end[FX], end[FY] = vx, vy, f_x, f_y
+    end[LAW:] = state
+    return end
+
+
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def longitudinal_cycle(z, mass, k_d, v_d, prescribed, u0, omega, cos_theta, sin_theta, eta_y,
+                       F_N, params, dt, steps, f_max, out):
+    """One base cycle of longitudinal.longitudinal_loop from ``z`` (as coupled_cycle;
+    z[VY] and z[FY] stay 0)."""
+    state = z[LAW:].copy()
+    x, v, f, x_b = z[X], z[VX], z[FX], 0.0
+    sin_phase, cos_phase = 0.0, 1.0
+    cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
+    record = out.shape[0] == steps
+    end = np.empty_like(z)
+    for i in range(1, steps + 1):
+        t = i * dt
+        if prescribed:
+            x_new = v_d * t
+        else:
+            v += dt * (k_d * (v_d * (t - dt) - x) - f) / mass   # eq 12 with eq 17
+            x_new = x + dt * v
+        x_b_new, sin_phase, cos_phase = base_displacement(i, dt, omega, 0.0, u0, sin_phase,
+                                                          cos_phase, cos_step, sin_step)  # eq 23
+        f, _ = law_update((x_new - x) - (x_b_new - x_b), 0.0, 0.0, 0.0,  # noqa: F821 (eq 6)
+                          F_N, 1.0, state, params, dt)
+        x, x_b = x_new, x_b_new
+        f_d = f if prescribed else k_d * (v_d * t - x)                 # eq 17
+        if not abs(f) <= f_max:
+            end[:] = np.nan
+            return end
+        if record:
+            out[i - 1, 0] = t
+            out[i - 1, 1] = f_d
+            out[i - 1, 2] = f
+            out[i - 1, 3] = 0.0
+            out[i - 1, 4] = x - v_d * t
+            out[i - 1, 5] = 0.0
+            out[i - 1, 6] = x_b
+            out[i - 1, 7] = 0.0
+    end[X] = x - v_d * steps * dt
+    end[VX], end[VY], end[FX], end[FY] = v, 0.0, f, 0.0
+    end[LAW:] = state
+    return end
+
+
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def preslide(state, slip, F_N, params, dt, max_steps):
+    """Slide the law's ``state`` in X by ``slip`` a step until its force stops changing
+    (to 1e-14 of itself); returns the force. The initial guess of steady sliding."""
+    f_old = math.inf
+    f = 0.0
+    for _ in range(max_steps):
+        f, _ = law_update(slip, 0.0, 0.0, 0.0, F_N, 1.0, state, params, dt)  # noqa: F821
+        if abs(f - f_old) <= 1e-14 * abs(f):
+            break
+        f_old = f
+    return f
+
+
+CYCLES = {"coupled": coupled_cycle, "longitudinal": longitudinal_cycle}
+
+
+def cycle_steps(scene) -> tuple:
+    """(n, dt): the whole number of steps n of one base cycle nearest 1/(f time.dt),
+    and the step that puts exactly n in a cycle (time.dt itself where 1/(f dt) is whole)."""
+    exact = 1.0 / (scene.vibration.f * scene.time.dt)
+    n = max(1, int(round(exact)))
+    if abs(exact - n) <= 1e-9 * exact:
+        return n, scene.time.dt
+    return n, 1.0 / (scene.vibration.f * n)
+
+
+@dataclass
+class Orbit:
+    """What the shooting found.
+
+    converged            Newton's scaled residual reached TOLERANCE
+    stable               every Floquet multiplier inside the unit circle (STABLE)
+    z                    the state at the start of a cycle (see X, VX, ... LAW)
+    cycle                (steps, 8) the steady cycle's rows (COLUMNS; x in the drive's frame)
+    newton_iterations, cycles_integrated, residual (the largest scaled component)
+    floquet              the multipliers, largest modulus first
+    dt, steps            the step used and steps in a cycle
+    solver_time_s        the shooting's wall time (compiled code loaded before)
+    """
+
+    converged: bool
+    stable: bool
+    z: np.ndarray
+    cycle: np.ndarray
+    newton_iterations: int
+    cycles_integrated: int
+    residual: float
+    floquet: np.ndarray
+    dt: float
+    steps: int
+    solver_time_s: float = 0.0
+    reason: str = ""
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def floquet_max_modulus(self) -> float:
+        return float(np.max(np.abs(self.floquet))) if self.floquet.size else math.nan
+
+    @property
+    def period_doubling(self) -> bool:
+        """The largest multiplier near -1: a period-2 response branches off here."""
+        if not self.floquet.size:
+            return False
+        lead = self.floquet[0]
+        return bool(abs(lead.imag) < 1e-6 and lead.real <= -STABLE)
+
+
+class CycleMap:
+    """Phi: one base cycle of the scene's stepper, as a function of the shooting state."""
+
+    def __init__(self, scene, stepper: str = "coupled"):
+        self.scene = scene
+        self.stepper = stepper
+        self.steps, self.dt = cycle_steps(scene)
+        law = scene.friction
+        self.law = law
+        self.params = law.params
+        cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
+        if stepper == "longitudinal":
+            cos_theta, sin_theta = 1.0, 0.0
+        self.kernel = CYCLES[stepper].for_law(law.law)
+        self.arguments = (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
+                          scene.u0, scene.omega, cos_theta, sin_theta, scene.contact.eta_y,
+                          scene.contact.F_N)
+        self.f_max = divergence_force(scene)
+        self.cycles = 0
+        self.size = LAW + law.law.initial_state(1).shape[1]
+        self.free = self._free_unknowns()
+        self.scale = self._scales()
+
+    def _free_unknowns(self) -> np.ndarray:
+        """The unknowns the map acts on: a prescribed drive fixes x and the velocities;
+        the 1D stepper has no transverse velocity or force."""
+        free = np.ones(self.size, dtype=bool)
+        if self.scene.drive.prescribed:
+            free[[X, VX, VY]] = False
+        if self.stepper == "longitudinal":
+            free[[VY, FY]] = False
+        return np.flatnonzero(free)
+
+    def _scales(self) -> np.ndarray:
+        """Each unknown's natural size: the Coulomb force, the spring's stretch under it,
+        the fastest velocity, and for the law's state its steady-sliding values."""
+        s = self.scene
+        F_c = max(s.F_c, 1e-300) if s.F_c > 0 else 1.0
+        scale = np.empty(self.size)
+        scale[X] = F_c / s.drive.k_d
+        scale[VX] = scale[VY] = max(s.drive.v_d, s.v_a)
+        scale[FX] = scale[FY] = F_c
+        sliding = self.sliding_state()[LAW:]
+        law_scale = max(float(np.max(np.abs(sliding))), 1e-300) if sliding.size else 1.0
+        scale[LAW:] = np.maximum(np.abs(sliding), 1e-3 * law_scale)
+        return scale
+
+    def __call__(self, z: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        self.cycles += 1
+        rows = np.empty((0, 8)) if out is None else out
+        return self.kernel(z, *self.arguments, self.params, self.dt, self.steps, self.f_max, rows)
+
+    def sliding_state(self) -> np.ndarray:
+        """Steady sliding at v_d without vibration: the initial guess (eq 17 with F = F_d0)."""
+        s = self.scene
+        state = self.law.law.initial_state(1)[0].copy()
+        v_d = s.drive.v_d
+        f = preslide.for_law(self.law.law)(state, v_d * self.dt, s.contact.F_N, self.params,
+                                           self.dt, PRESLIDE_STEPS)
+        z = np.zeros(self.size)
+        z[X] = 0.0 if s.drive.prescribed else -f / s.drive.k_d - v_d * self.dt
+        z[VX] = v_d
+        z[FX] = f
+        z[LAW:] = state
+        return z
+
+    def residual(self, z: np.ndarray) -> tuple:
+        """(Phi(z), (Phi(z) - z) / scale on the free unknowns, its largest modulus)."""
+        phi_z = self(z)
+        r = ((phi_z - z) / self.scale)[self.free]
+        norm = float(np.max(np.abs(r))) if np.all(np.isfinite(r)) else math.inf
+        return phi_z, r, norm
+
+    def jacobian(self, z: np.ndarray, phi_z: np.ndarray) -> np.ndarray:
+        """d Phi / dz on the free unknowns, in scaled variables, by forward differences
+        from ``phi_z`` = Phi(z) (one cycle per unknown)."""
+        n = self.free.size
+        M = np.empty((n, n))
+        for k, j in enumerate(self.free):
+            h = FD_STEP * max(abs(z[j]), self.scale[j])
+            plus = z.copy()
+            plus[j] += h
+            column = (self(plus) - phi_z) / h * self.scale[j] / self.scale
+            M[:, k] = column[self.free]
+        return M
+
+
+def _update(z, step, free, scale):
+    new = z.copy()
+    new[free] += step * scale[free]
+    return new
+
+
+def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
+               plain_cycles: int = 2) -> Orbit:
+    """Shoot for the periodic steady state of the scene's lumped model.
+
+    ``start``: a state to begin from (a neighbouring sweep point's orbit: continuation),
+    else steady sliding without vibration. ``plain_cycles`` plain cycles are run first
+    (they damp the fast components cheaply). Never raises on non-convergence: the
+    Orbit says whether it converged and whether it is stable.
+    """
+    phi = CycleMap(scene, stepper)
+    begin = perf_counter()
+    z = phi.sliding_state() if start is None else np.array(start, dtype=float)
+    for _ in range(plain_cycles):
+        z_next = phi(z)
+        if not np.all(np.isfinite(z_next)):
+            break
+        z = z_next
+    free, scale = phi.free, phi.scale
+    phi_z, r, norm = phi.residual(z)
+    iterations = 0
+    reason = ""
+    A = None            # the Newton matrix M - I: finite differences, then Broyden updates
+    rose = False        # the last accepted step raised the residual (watchdog, below)
+    watch = math.inf    # the residual before that rise: the next step must go below it
+    while norm > TOLERANCE and iterations < MAX_NEWTON:
+        iterations += 1
+        if A is None:
+            M = phi.jacobian(z, phi_z)
+            if not np.all(np.isfinite(M)):
+                reason = "the cycle diverged near the trial state"
+                break
+            A = M - np.eye(free.size)
+            fresh = True
+        else:
+            fresh = False
+        step = np.linalg.lstsq(A, -r, rcond=None)[0]
+        accepted = False
+        lam = 1.0
+        for _ in range(12):
+            trial = _update(z, lam * step, free, scale)
+            phi_t, r_t, norm_t = phi.residual(trial)
+            # A full step may raise the residual once if the next one falls below where
+            # it rose from (a watchdog: a law state such as Dahl's direction flips where
+            # its length crosses zero, so the residual of the representation jumps
+            # while the force stays continuous); otherwise backtrack.
+            if (norm_t < (1.0 - 1e-4 * lam) * norm or norm_t < (1.0 - 1e-4) * watch
+                    or (lam == 1.0 and not rose and math.isfinite(norm_t))):
+                accepted = True
+                break
+            lam *= 0.5
+        if accepted:
+            s_step = lam * step
+            if norm_t < 0.5 * norm and math.isfinite(norm_t):   # Broyden's update (good)
+                A = A + np.outer(r_t - r - A @ s_step, s_step) / (s_step @ s_step)
+            else:                                                # slow: a fresh Jacobian
+                A = None
+            rose = norm_t >= norm
+            watch = norm if rose else math.inf
+            z, phi_z, r, norm = trial, phi_t, r_t, norm_t
+        elif fresh:           # Newton stalls: a few plain cycles move on, then try again
+            for _ in range(4):
+                z = phi(z)
+            phi_z, r, norm = phi.residual(z)
+            A = None
+            if not math.isfinite(norm):
+                reason = "the cycle diverged"
+                break
+        else:
+            A = None          # Broyden's matrix led nowhere: a fresh Jacobian
+    converged = norm <= TOLERANCE
+    if converged:
+        M = phi.jacobian(z, phi_z)   # at the orbit itself: its Floquet multipliers
+        multipliers = np.linalg.eigvals(M)
+        multipliers = multipliers[np.argsort(-np.abs(multipliers))]
+    else:
+        multipliers = np.empty(0)
+        reason = reason or f"Newton did not reach {TOLERANCE:g} in {MAX_NEWTON} iterations"
+    cycle = np.empty((phi.steps, 8))
+    if converged:
+        phi(z, cycle)
+    stable = converged and bool(multipliers.size == 0 or np.max(np.abs(multipliers)) < STABLE)
+    orbit = Orbit(converged, stable, z, cycle, iterations, phi.cycles, norm, multipliers,
+                  phi.dt, phi.steps, perf_counter() - begin, reason)
+    if converged and not stable:
+        if orbit.period_doubling:
+            kind = "unstable by period doubling (a multiplier beyond -1)"
+        elif orbit.floquet_max_modulus < 1.0 + 1e-6:
+            kind = "not attracting (a multiplier on the unit circle: an undamped mode)"
+        else:
+            kind = "unstable"
+        orbit.reason = (f"the periodic orbit is {kind}: largest Floquet multiplier modulus "
+                        f"{orbit.floquet_max_modulus:.6g}")
+    return orbit
+
+
+def load_cycle(scene, stepper: str = "coupled") -> None:
+    """Compile (or load from numba's cache) the cycle kernels for the scene's law."""
+    phi = CycleMap(scene, stepper)
+    phi(phi.sliding_state())
+
+
+def steady_series(orbit: Orbit, scene, cycles: int = PLOT_CYCLES) -> TimeSeries:
+    """``cycles`` repeats of the steady cycle ending at time.T, in the ground frame
+    (x = x - v_d t + v_d t; y and the base as in one cycle), for outputs and plots."""
+    n, dt = orbit.steps, orbit.dt
+    table = np.tile(orbit.cycle, (cycles, 1))
+    start = scene.time.T - cycles * n * dt
+    t = start + dt * np.arange(1, cycles * n + 1)
+    table[:, 0] = t
+    table[:, 4] += scene.drive.v_d * t
+    return TimeSeries.from_table(table)
