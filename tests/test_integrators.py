@@ -238,13 +238,16 @@ def test_before_the_base_moves_fewer_friction_substeps_give_the_same_run(monkeyp
 
 @pytest.mark.parametrize("name", ["implicit", "reduced"])
 def test_at_the_abaqus_step_the_integrators_stay_within_one_percent(short_runs, name):
-    """At dt = 1e-5 s (25 steps a cycle), 10x the explicit step: F_dv within 1% of
-    the explicit run (measured +0.4% implicit, +0.5% reduced on this 18-cycle
-    transient; the friction sub-steps are what keeps it there: without them
-    +1.0%), and the summed normal force as steady as the explicit run's (+-0.2%)."""
+    """At dt = 1e-5 s (25 steps a cycle), 10x the explicit step: F_dv within 1.5% of
+    the explicit run (measured +1.07% implicit, +1.11% reduced on this 18-cycle
+    transient; +0.15% at 5e-6 s, and the explicit run within 3e-4 of its own at
+    5e-7 s). The contract's normal-force rule returns each node to its Coulomb
+    limit as its normal force drops, and the nodes' normal forces swing by up to
+    +-67% a cycle: 25 steps sample that less well than the old rule (keep: +0.5%
+    at 1e-5 s). The summed normal force as steady as the explicit run's (+-0.2%)."""
     scene, reference = short_runs["explicit", "1e-6"]
     fe_scene, fe = short_runs[name, "1e-5"]
-    assert ratio(fe, fe_scene) == pytest.approx(ratio(reference, scene), rel=0.01)
+    assert ratio(fe, fe_scene) == pytest.approx(ratio(reference, scene), rel=0.015)
     # 11: each sub-step's fastest slip (v_a + v_d) at most 0.05 s_c (slip_resolving_step)
     assert fe.info["friction_substeps"] == 11
     F_N = scene.contact.F_N
