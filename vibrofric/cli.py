@@ -2,6 +2,7 @@
 
 import argparse
 import atexit
+import contextlib
 import gc
 import json
 import logging
@@ -140,12 +141,26 @@ def _warn_unsettled(summary: dict, label: str = "") -> None:
 
 
 def _target(args, command: str):
-    """(directory, claimed): --out once checked (output.check_target), or a
-    fresh default name claimed for this run."""
+    """(directory, claimed): --out once checked (output.check_target) and locked
+    for the rest of the command (output.locked: a second writer is refused at
+    once), or a fresh default name claimed for this run."""
     if args.out is None:
         return None, True
+    return _locked_out(args, command)[0], False
+
+
+def _locked_out(args, command: str):
+    """--out checked, locked, checked again (it may have changed before the lock
+    was taken), and cleared of what a killed run left beside it: (the directory
+    written, what check_target says of it). A symlink's folder is the directory."""
     output.check_target(args.out, command, args.force)
-    return args.out, False
+    target = args.held.enter_context(output.locked(args.out))
+    verdict = output.check_target(target, command, args.force)
+    cleared = output.clear_leftovers(target)
+    if cleared:
+        print(f"vibrofric: removed what a killed run left beside {target}: {', '.join(cleared)}",
+              file=sys.stderr)
+    return target, verdict
 
 
 def _check_stepper(scene, stepper: str) -> None:
@@ -249,10 +264,17 @@ def cmd_sweep(args) -> int:
 
     scene = scene_module.load(args.scene, args.overrides)
     grid = [parse_grid(text) for text in args.grid]
-    fresh = False
-    if args.out is not None:
-        fresh = output.check_target(args.out, "sweep", args.force) == "replace"
-    outcome = run_sweep(scene, grid, "fe" if args.fe else "analytic", args.out, args.workers,
+    from .batch import mpi
+
+    fresh, out = False, None
+    comm = mpi.world()
+    if args.out is not None and comm is not None and comm.rank != 0:
+        out = output.real_target(args.out)  # rank 0 holds the lock for all
+        output.check_target(out, "sweep", args.force)
+    elif args.out is not None:
+        out, verdict = _locked_out(args, "sweep")
+        fresh = verdict == "replace"
+    outcome = run_sweep(scene, grid, "fe" if args.fe else "analytic", out, args.workers,
                         fresh=fresh)
     if outcome.leader:  # under mpirun, rank 0 speaks for all
         if args.json:
@@ -285,6 +307,9 @@ def _interrupted(command: str, signal_name: str) -> str:
     if command == "sweep":
         return (f"vibrofric: sweep interrupted {how}; the finished points are kept: rerun the "
                 "same command to resume")
+    if output.committed:  # the signal waited for the results to move in (output.commit)
+        return (f"vibrofric: {command} interrupted {how} after its results were written: "
+                f"results in {output.committed[-1]}")
     return f"vibrofric: {command} interrupted {how}; nothing was written"
 
 
@@ -318,8 +343,9 @@ def _explained(err: Exception):
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     _quiet_libraries()
+    output.committed.clear()
     try:
-        with interruptible():
+        with interruptible(), contextlib.ExitStack() as args.held:  # the locks of --out
             return COMMANDS[args.command](args) or 0
     except KeyboardInterrupt as interrupt:
         print(_interrupted(args.command, str(interrupt)), file=sys.stderr)

@@ -1,0 +1,231 @@
+"""Faults and hostile input: colliding writers, kills at any moment, damaged
+sweep points, odd --out targets, a full disk, nonsense scene values.
+
+Each case asserts what the user sees (exit code, one line on stderr) and what
+the file system holds afterwards: old or new results whole, nothing hidden left.
+"""
+
+import json
+import os
+import random
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+from conftest import child_environment
+
+from vibrofric import output
+from vibrofric.cli import EXIT_BAD_INPUT, main
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENE = str(ROOT / "scenes" / "longitudinal.toml")
+SHORT = ["--set", "time.T=0.2"]
+
+
+def vibrofric(args, cwd, **popen):
+    return subprocess.run([sys.executable, "-m", "vibrofric.cli", *map(str, args)], cwd=cwd,
+                          env=child_environment(), capture_output=True, text=True, timeout=600,
+                          **popen)
+
+
+def whole(directory: Path) -> dict:
+    """The results of an analytic run in ``directory``, checked whole: marker,
+    scene, summary and series all there and readable."""
+    assert output.read_marker(directory) == {"command": "analytic"}
+    summary = json.loads((directory / "summary.json").read_text())
+    assert (directory / "scene.toml").read_text().startswith("[")
+    lines = (directory / "timeseries.csv").read_text().splitlines()
+    assert len(lines) > 10 and lines[-1].count(",") == lines[0].count(",")
+    return summary
+
+
+def hidden(parent: Path) -> list:
+    return sorted(p.name for p in parent.iterdir() if p.name.startswith("."))
+
+
+# -- 1. one writer at a time -------------------------------------------------------------------
+
+def test_a_second_writer_is_refused_at_once_in_one_line(tmp_path, capsys):
+    out = tmp_path / "R"
+    with output.locked(out):
+        code = main(["analytic", SCENE, *SHORT, "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == EXIT_BAD_INPUT
+    assert len(err) == 1 and "another vibrofric process is writing it now" in err[0]
+    assert list(tmp_path.iterdir()) == []  # nothing made, and the lock file gone with its holder
+
+
+def test_a_sweep_is_locked_too(tmp_path, capsys):
+    out = tmp_path / "S"
+    with output.locked(out):
+        code = main(["sweep", SCENE, *SHORT, "--grid", "vibration.k_v=2,6", "--out", str(out)])
+    assert code == EXIT_BAD_INPUT
+    assert "another vibrofric process" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_the_lock_is_taken_over_from_a_killed_holder(tmp_path):
+    """The kernel drops a dead process's flock; its lock file left behind is no obstacle."""
+    out = tmp_path / "R"
+    holder = subprocess.Popen([sys.executable, "-c", textwrap.dedent(f"""
+        import time
+        from vibrofric import output
+        with output.locked({str(out)!r}):
+            print("held", flush=True)
+            time.sleep(60)
+        """)], env=child_environment(), stdout=subprocess.PIPE, text=True)
+    assert holder.stdout.readline() == "held\n"
+    with pytest.raises(output.Busy):
+        with output.locked(out):
+            pass
+    holder.kill()
+    holder.wait()
+    assert (tmp_path / ".R.lock").exists()
+    with output.locked(out) as target:
+        assert target == out
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_two_commands_on_one_out_never_both_claim_success(tmp_path):
+    """A run beside another into the same --out, no --force: one writes, the other is
+    refused (busy, or finding the first one's results); never both 'results in'."""
+    runs = [subprocess.Popen([sys.executable, "-m", "vibrofric.cli", "analytic", SCENE, *SHORT,
+                              "--set", f"vibration.k_v={k}", "--out", "R"],
+                             cwd=tmp_path, env=child_environment(), stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True) for k in (2, 6)]
+    done = [(run.wait(timeout=300), run.communicate()) for run in runs]
+    codes = sorted(code for code, _ in done)
+    assert codes == [0, EXIT_BAD_INPUT], done
+    (out, err), = [streams for code, streams in done if code == 0]
+    summary = whole(tmp_path / "R")  # which one won is up to the scheduler
+    assert summary["analytic"]["F_dv_over_F_d0"] == pytest.approx(
+        float(out.split("F_dv/F_d0 = ")[1].split()[0]), abs=1e-4)  # printed to 4 decimals
+    assert hidden(tmp_path) == []
+
+
+# -- 2. --force replaces whole --------------------------------------------------------------------
+
+def test_force_swaps_old_and_new_in_one_step(tmp_path, monkeypatch):
+    """Seen at the moment the new results move in: the name holds the old or the new, whole."""
+    target = tmp_path / "R"
+    with output.staged(target, "analytic") as stage:
+        (stage / "summary.json").write_text('"old"')
+    seen = []
+    exchange = output._exchange
+
+    def watched(a, b):
+        seen.append((b / "summary.json").read_text())
+        done = exchange(a, b)
+        seen.append((b / "summary.json").read_text())
+        return done
+
+    monkeypatch.setattr(output, "_exchange", watched)
+    with output.staged(target, "analytic") as stage:
+        (stage / "summary.json").write_text('"new"')
+    assert seen == ['"old"', '"new"']
+    assert (target / "summary.json").read_text() == '"new"' and hidden(tmp_path) == []
+
+
+def test_force_without_an_exchanging_file_system_renames_aside_first(tmp_path, monkeypatch):
+    monkeypatch.setattr(output, "_exchange", lambda a, b: False)
+    target = tmp_path / "R"
+    for text in ('"old"', '"new"'):
+        with output.staged(target, "analytic") as stage:
+            (stage / "summary.json").write_text(text)
+    assert (target / "summary.json").read_text() == '"new"' and hidden(tmp_path) == []
+
+
+KILLED_WRITER = """
+import sys
+from pathlib import Path
+from vibrofric import output
+target, n = Path(sys.argv[1]), 0
+print("started", flush=True)
+while True:
+    n += 1
+    with output.staged(target, "analytic") as stage:
+        for i in range(200):  # a directory big enough to take a while to write and delete
+            (stage / f"f{i}.txt").write_text(str(n) * 200)
+        (stage / "summary.json").write_text(str(n))
+"""
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_kill_harness_replacing_results_in_a_loop(tmp_path, seed):
+    """A writer replacing its results over and over, killed at random moments by
+    SIGINT, SIGTERM or SIGKILL: the name always holds one whole result set, and
+    what the kill left beside it is found and cleared."""
+    rng = random.Random(seed)
+    target = tmp_path / "R"
+    for _ in range(5):
+        child = subprocess.Popen([sys.executable, "-c", KILLED_WRITER, str(target)],
+                                 env=child_environment(), stdout=subprocess.PIPE, text=True)
+        assert child.stdout.readline() == "started\n"
+        time.sleep(rng.uniform(0.05, 0.4))
+        child.send_signal(rng.choice([signal.SIGINT, signal.SIGTERM, signal.SIGKILL]))
+        child.wait(timeout=30)
+        if target.exists():
+            n = (target / "summary.json").read_text()
+            files = sorted(p.name for p in target.iterdir())
+            assert len(files) == 202 and all((target / f"f{i}.txt").read_text() == n * 200
+                                             for i in range(200))
+        output.clear_leftovers(target)
+        assert hidden(tmp_path) == []
+
+
+def test_cli_kill_harness_force_replacement(tmp_path):
+    """The command itself, --force into results of its own, killed at random moments:
+    R holds whole results (the old or the new) each time, and the next run leaves
+    nothing hidden beside it."""
+    rng = random.Random(7)
+    assert vibrofric(["analytic", SCENE, *SHORT, "--out", "R"], tmp_path).returncode == 0
+    for _ in range(4):
+        child = subprocess.Popen([sys.executable, "-m", "vibrofric.cli", "analytic", SCENE, *SHORT,
+                                  "--out", "R", "--force"], cwd=tmp_path, env=child_environment(),
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        time.sleep(rng.uniform(0.3, 3.0))
+        child.send_signal(rng.choice([signal.SIGINT, signal.SIGTERM, signal.SIGKILL]))
+        child.communicate(timeout=60)
+        assert child.returncode in (0, 130, -signal.SIGKILL)
+        whole(tmp_path / "R")
+    done = vibrofric(["analytic", SCENE, *SHORT, "--out", "R", "--force"], tmp_path)
+    assert done.returncode == 0, done.stderr
+    whole(tmp_path / "R")
+    assert hidden(tmp_path) == []
+
+
+def test_leftovers_beside_the_target_are_cleared_and_reported(tmp_path, capsys):
+    (tmp_path / ".R.part-123-abcdef12").mkdir()
+    (tmp_path / ".R.part-old-123-abcdef13").mkdir()
+    assert main(["analytic", SCENE, *SHORT, "--out", str(tmp_path / "R")]) == 0
+    err = capsys.readouterr().err
+    assert "removed what a killed run left beside" in err and ".R.part-old-123-abcdef13" in err
+    assert hidden(tmp_path) == []
+
+
+# -- 3. odd --out targets ----------------------------------------------------------------------
+
+def test_out_through_a_symlink_writes_into_its_folder_and_keeps_the_link(tmp_path):
+    (tmp_path / "real").mkdir()
+    (tmp_path / "link").symlink_to("real")
+    for more in ([], ["--force"]):
+        done = vibrofric(["analytic", SCENE, *SHORT, "--out", "link", *more], tmp_path)
+        assert done.returncode == 0, done.stderr
+        assert (tmp_path / "link").is_symlink() and os.readlink(tmp_path / "link") == "real"
+        whole(tmp_path / "real")
+    assert hidden(tmp_path) == []
+
+
+def test_out_on_a_mount_point_is_refused_before_any_work(tmp_path, capsys, monkeypatch):
+    out = tmp_path / "mnt"
+    out.mkdir()
+    mounted = os.path.ismount
+    monkeypatch.setattr(output.os.path, "ismount", lambda p: Path(p) == out or mounted(p))
+    assert main(["analytic", SCENE, *SHORT, "--out", str(out)]) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err
+    assert "is a mount point" in err and f"--out {out / 'results'}" in err
+    assert list(tmp_path.iterdir()) == [out] and list(out.iterdir()) == []
