@@ -229,3 +229,57 @@ def test_out_on_a_mount_point_is_refused_before_any_work(tmp_path, capsys, monke
     err = capsys.readouterr().err
     assert "is a mount point" in err and f"--out {out / 'results'}" in err
     assert list(tmp_path.iterdir()) == [out] and list(out.iterdir()) == []
+
+
+# -- 4. damaged sweep points -----------------------------------------------------------------------
+
+def analytic_sweep(out):
+    return ["sweep", SCENE, *SHORT, "--grid", "vibration.k_v=2,6", "--workers", "1", "--out", str(out)]
+
+
+def damage_summary(text):
+    def damage(point: Path):
+        (point / "summary.json").write_text(text)
+    return damage
+
+
+def edit_ratio(value):
+    def damage(point: Path):
+        summary = json.loads((point / "summary.json").read_text())
+        summary["result"]["F_dv_over_F_d0"] = value
+        (point / "summary.json").write_text(json.dumps(summary))
+    return damage
+
+
+def replace_with_a_file(point: Path):
+    import shutil
+
+    shutil.rmtree(point)
+    point.write_text("not a point")
+
+
+def truncate_scene(point: Path):
+    with open(point / "scene.toml", "r+") as f:
+        f.truncate(10)
+
+
+DAMAGES = {"[]": damage_summary("[]"), "{}": damage_summary("{}"),
+           "random bytes": damage_summary("\x00\x9f garbage \xff"),
+           "ratio 9.2": edit_ratio(9.2), "ratio NaN": edit_ratio("NaN"),
+           "point folder a file": replace_with_a_file, "scene.toml truncated": truncate_scene,
+           "checks.json gone": lambda point: (point / output.CHECKS).unlink()}
+
+
+@pytest.mark.parametrize("damage", DAMAGES.values(), ids=DAMAGES.keys())
+def test_a_damaged_point_is_recomputed_and_counted(tmp_path, capsys, damage):
+    out = tmp_path / "S"
+    assert main(analytic_sweep(out)) == 0
+    good = json.loads((out / "points" / "vibration.k_v=6.0" / "summary.json").read_text())
+    capsys.readouterr()
+    damage(out / "points" / "vibration.k_v=6.0")
+    assert main(analytic_sweep(out)) == 0
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "2 points (1 reused, 1 found damaged and rerun), 0 failed" in last
+    again = json.loads((out / "points" / "vibration.k_v=6.0" / "summary.json").read_text())
+    assert again["result"]["F_dv_over_F_d0"] == good["result"]["F_dv_over_F_d0"]
+    assert output.checks_out(out / "points" / "vibration.k_v=6.0")

@@ -340,6 +340,39 @@ def write_scene(directory: Path, scene) -> None:
         partial.write_text(scene_module.to_toml(scene))
 
 
+CHECKS = "checks.json"  # in a sweep's point: {file: {"bytes": n, "sha256": hex}} of the others
+
+
+def _files(directory: Path) -> list:
+    return sorted(p.relative_to(directory).as_posix() for p in Path(directory).rglob("*")
+                  if p.is_file() and p.name != CHECKS)
+
+
+def _digest(path: Path) -> dict:
+    import hashlib
+
+    with open(path, "rb") as f:
+        return {"bytes": path.stat().st_size, "sha256": hashlib.file_digest(f, "sha256").hexdigest()}
+
+
+def write_checks(directory: Path) -> None:
+    """Record the size and SHA-256 of every file in ``directory`` (written last)."""
+    directory = Path(directory)
+    checks = {name: _digest(directory / name) for name in _files(directory)}
+    (directory / CHECKS).write_text(json.dumps(checks, indent=1) + "\n")
+
+
+def checks_out(directory: Path) -> bool:
+    """True if ``directory`` holds exactly the files write_checks() recorded, unchanged."""
+    directory = Path(directory)
+    try:
+        checks = json.loads((directory / CHECKS).read_text())
+        return (isinstance(checks, dict) and sorted(checks) == _files(directory)
+                and all(_digest(directory / name) == checks[name] for name in checks))
+    except (OSError, ValueError):
+        return False
+
+
 def write_summary(directory: Path, summary: dict) -> None:
     (directory / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
 
