@@ -283,3 +283,52 @@ def test_a_damaged_point_is_recomputed_and_counted(tmp_path, capsys, damage):
     again = json.loads((out / "points" / "vibration.k_v=6.0" / "summary.json").read_text())
     assert again["result"]["F_dv_over_F_d0"] == good["result"]["F_dv_over_F_d0"]
     assert output.checks_out(out / "points" / "vibration.k_v=6.0")
+
+
+# -- 8. unexpected failures: one line, and where the traceback went ---------------------------------
+
+def test_an_unexpected_error_prints_one_line_and_logs_the_traceback(tmp_path, capsys, monkeypatch):
+    from vibrofric.analytic import run as analytic_run
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("a bug")
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.setattr(analytic_run, "run", broken)
+    assert main(["analytic", SCENE, *SHORT, "--out", str(tmp_path / "R")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "analytic failed unexpectedly: ZeroDivisionError: a bug" in err[0]
+    log, = (tmp_path / "cache" / "vibrofric").iterdir()
+    assert str(log) in err[0] and "Traceback" in log.read_text() and "a bug" in log.read_text()
+    assert not (tmp_path / "R").exists()
+
+
+# -- 9. the disk --------------------------------------------------------------------------------------
+
+def test_an_analytic_sweep_is_estimated_at_what_it_writes(tmp_path):
+    """A point writes scene.toml, summary.json and checks.json (~5 kB, 16 KiB of blocks
+    with its directory), not the time series it never keeps."""
+    from vibrofric import budget
+    from vibrofric import scene as scene_module
+
+    scene = scene_module.load(SCENE)
+    assert budget.estimate(scene, fe=False, series=False)["disk"] == budget.POINT_BYTES
+    assert main(analytic_sweep(tmp_path / "S")) == 0
+    point = tmp_path / "S" / "points" / "vibration.k_v=2.0"
+    written = sum(p.stat().st_size for p in point.iterdir())
+    assert written < budget.POINT_BYTES
+
+
+def test_a_disk_that_fills_mid_run_gives_one_line_and_nothing_half_written(tmp_path, capsys,
+                                                                             monkeypatch):
+    import errno
+
+    def full(directory, series, name="timeseries.csv"):
+        (directory / name).write_text("t,F_d\n0.0,")  # what got out before the disk filled
+        raise OSError(errno.ENOSPC, "No space left on device", str(directory / name))
+
+    monkeypatch.setattr(output, "write_timeseries", full)
+    assert main(["analytic", SCENE, *SHORT, "--out", str(tmp_path / "R")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "the disk is full (No space left on device) writing" in err[0]
+    assert list(tmp_path.iterdir()) == []

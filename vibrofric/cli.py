@@ -3,6 +3,8 @@
 import argparse
 import atexit
 import contextlib
+import errno
+import faulthandler
 import gc
 import json
 import logging
@@ -17,6 +19,7 @@ from .core.errors import NumericalError, Refusal
 from .output import OutputError
 from .parallel import interruptible
 
+EXIT_FAILED = 1          # something failed that is not the input's fault (a full disk, a bug)
 EXIT_BAD_INPUT = 2
 EXIT_NUMERICAL = 3
 EXIT_POINTS_FAILED = 4   # a sweep finished, but some of its points failed
@@ -340,9 +343,52 @@ def _explained(err: Exception):
     return None
 
 
+DISK_FULL = (errno.ENOSPC, errno.EDQUOT)
+
+
+def _crash_log(command: str) -> Path | None:
+    """Write the traceback being handled to a log file in the user's cache
+    directory ($XDG_CACHE_HOME/vibrofric, default ~/.cache/vibrofric); its path."""
+    import datetime
+    import os
+    import traceback
+
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "vibrofric"
+    stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
+    path = base / f"crash-{command}-{stamp}-{os.getpid()}.log"
+    try:
+        base.mkdir(parents=True, exist_ok=True)
+        path.write_text(f"vibrofric {' '.join(sys.argv[1:])}\n\n{traceback.format_exc()}")
+    except OSError:
+        return None
+    return path
+
+
+def _unexpected(command: str, err: BaseException) -> str:
+    """One line for an error that is not the user's to fix: what failed, and
+    where the full traceback went."""
+    log = _crash_log(command)
+    where = f"the full traceback is in {log}" if log else "the traceback could not be written"
+    frame = traceback_origin(err)
+    return (f"vibrofric: {command} failed unexpectedly: {type(err).__name__}: {err} "
+            f"(at {frame}; {where}; please report it)")
+
+
+def traceback_origin(err: BaseException) -> str:
+    """file:line of the innermost frame of ``err``'s traceback."""
+    tb = err.__traceback__
+    while tb is not None and tb.tb_next is not None:
+        tb = tb.tb_next
+    if tb is None:
+        return "?"
+    return f"{Path(tb.tb_frame.f_code.co_filename).name}:{tb.tb_lineno}"
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     _quiet_libraries()
+    if not faulthandler.is_enabled():  # a crash in compiled code (numba, PETSc) shows its stack
+        faulthandler.enable()
     output.committed.clear()
     try:
         with interruptible(), contextlib.ExitStack() as args.held:  # the locks of --out
@@ -350,10 +396,19 @@ def main(argv=None) -> int:
     except KeyboardInterrupt as interrupt:
         print(_interrupted(args.command, str(interrupt)), file=sys.stderr)
         return EXIT_INTERRUPTED
+    except OSError as err:
+        if err.errno in DISK_FULL:
+            name = f" writing {err.filename}" if err.filename else ""
+            print(f"vibrofric: {args.command} stopped: the disk is full ({err.strerror}){name}; "
+                  "nothing half-written was kept", file=sys.stderr)
+            return EXIT_FAILED
+        print(_unexpected(args.command, err), file=sys.stderr)
+        return EXIT_FAILED
     except Exception as err:
         explained = _explained(err)
         if explained is None:
-            raise
+            print(_unexpected(args.command, err), file=sys.stderr)
+            return EXIT_FAILED
         message, code = explained
         print(message, file=sys.stderr)
         return code

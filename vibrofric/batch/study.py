@@ -165,7 +165,8 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         out = comm.bcast(out, root=0)  # rank 0's time stamp in the default name
     out = Path(out)
     ledger = Ledger(plan(scene, grid, out / "points"), mode, out)
-    budget.check([p.scene for p in ledger.points if p.scene is not None], mode == "fe", out)
+    budget.check([p.scene for p in ledger.points if p.scene is not None], mode == "fe", out,
+                 series=mode == "fe")  # an analytic point keeps its summary alone (points.py)
     if fresh and leader and out.exists():
         output.remove(out)
     todo = _prepare(scene, ledger, out) if leader else None
