@@ -332,3 +332,90 @@ def test_a_disk_that_fills_mid_run_gives_one_line_and_nothing_half_written(tmp_p
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "the disk is full (No space left on device) writing" in err[0]
     assert list(tmp_path.iterdir()) == []
+
+
+# -- 6. nonsense refused, fuzzed scenes and --set values --------------------------------------------
+
+@pytest.mark.parametrize("assignment, said", [
+    ("contact.F_N=1e17", "contact.F_N: 1e+17 N is outside the range"),
+    ("contact.F_N=1e-300", "contact.F_N: 1e-300 N is outside the range"),
+    ("drive.v_d=1e-300", "drive.v_d: 1e-300 m/s is outside the range"),
+    ("vibration.theta_deg=1e20", "vibration.theta_deg: 1e+20 deg is outside the range"),
+    ("body.mass=0.5\nbody.E=1", "holds a line break"),
+    ("contact.F_N=inf", "contact.F_N"),
+])
+def test_nonsense_is_refused_naming_its_range(tmp_path, capsys, assignment, said):
+    assert main(["analytic", SCENE, "--set", assignment, "--out", str(tmp_path / "R")]) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and said in err[0]
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_empty_scene_file_is_refused(tmp_path, capsys):
+    empty = tmp_path / "empty.toml"
+    empty.write_text("\n  \n")
+    assert main(["analytic", str(empty), "--out", str(tmp_path / "R")]) == EXIT_BAD_INPUT
+    assert "empty.toml: is empty" in capsys.readouterr().err
+    commented = tmp_path / "defaults.toml"
+    commented.write_text("# the default scene\n")
+    from vibrofric import scene as scene_module
+
+    assert scene_module.load(commented).contact.F_N == scene_module.Contact.F_N
+
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from vibrofric import scene as scene_module  # noqa: E402
+from vibrofric.scene import SceneError  # noqa: E402
+
+NUMERIC_KEYS = ["body.mass", "body.E", "body.nu", "contact.F_N", "contact.mu", "contact.k_t",
+                "drive.k_d", "drive.v_d", "vibration.k_v", "vibration.f", "vibration.theta_deg",
+                "vibration.t_on", "time.T", "time.dt", "time.series_dt"]
+numbers = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**30, 10**30),
+                    st.sampled_from([0, -0.0, 1e-300, 1e300, 1e17, 5e-324]))
+text_values = st.text(st.characters(blacklist_categories=("Cs",)), max_size=30)
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.lists(st.tuples(st.sampled_from(NUMERIC_KEYS), st.one_of(numbers, text_values)), max_size=4))
+def test_fuzzed_set_values_load_or_are_refused_by_name(tmp_path, changes):
+    """Any --set text: a scene, or a SceneError naming a key; never another exception."""
+    assignments = [f"{key}={value!r}" if isinstance(value, str) else f"{key}={value}"
+                   for key, value in changes]
+    try:
+        scene = scene_module.load(SCENE, assignments)
+    except SceneError as err:
+        assert str(err).strip()
+        return
+    for key, (low, high, _) in __import__("vibrofric.sense", fromlist=["RANGES"]).RANGES.items():
+        assert low <= scene.get(key) <= high
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(st.text(max_size=200))
+def test_fuzzed_scene_files_load_or_are_refused(tmp_path, text):
+    path = tmp_path / "fuzzed.toml"
+    path.write_text(text, encoding="utf-8")
+    try:
+        scene_module.load(path)
+    except SceneError:
+        pass
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(F_N=st.floats(1e-6, 1e9), v_d=st.floats(1e-9, 1e3), theta=st.floats(-360, 360))
+def test_accepted_extremes_give_a_result_or_say_why_not(F_N, v_d, theta):
+    """Within the ranges, the stepper answers with a finite ratio, or is refused or stopped
+    with a message (SceneError: too many steps; NumericalError): never NaN or inf."""
+    from vibrofric.analytic.run import run
+    from vibrofric.core.errors import NumericalError, Refusal
+
+    try:
+        scene = scene_module.load(SCENE, ["time.T=0.2", f"contact.F_N={F_N!r}", f"drive.v_d={v_d!r}",
+                                          f"vibration.theta_deg={theta!r}"])
+        _, summary = run(scene, "coupled")
+    except (SceneError, NumericalError, Refusal):
+        return
+    ratio = summary["F_dv_over_F_d0"]
+    assert ratio is None or __import__("math").isfinite(ratio)
