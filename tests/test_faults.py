@@ -419,3 +419,30 @@ def test_accepted_extremes_give_a_result_or_say_why_not(F_N, v_d, theta):
         return
     ratio = summary["F_dv_over_F_d0"]
     assert ratio is None or __import__("math").isfinite(ratio)
+
+
+# -- 5. long runs: the estimate counts friction sub-steps; the FE loop returns to Python often ------
+
+def test_the_run_time_estimate_counts_friction_sub_steps(load_scene):
+    from vibrofric import budget
+
+    gentle = load_scene("longitudinal", vibration__t_on=0.01, time__T=0.05)
+    stiff = gentle.with_values({"vibration.k_v": 1e6})
+    assert budget.friction_updates(gentle) == 1 and budget.friction_updates(stiff) > 1000
+    assert budget.estimate(stiff, fe=True)["seconds"] > 1000 * budget.estimate(gentle, fe=True)["seconds"]
+
+
+def test_the_fe_loop_returns_to_python_in_growing_chunks():
+    """run_in_chunks calls the compiled step over chunks that start at one step and
+    double while quick: a signal is handled between two calls."""
+    from vibrofric.fem.recording import run_in_chunks
+
+    calls = []
+
+    def advance(first, last):
+        calls.append((first, last))
+        return 0
+
+    last, _ = run_in_chunks(1000, None, 0, None, advance)
+    assert last == 1000 and calls[0] == (1, 1) and calls[1] == (2, 3) and calls[-1][1] == 1000
+    assert all(b[0] == a[1] + 1 for a, b in zip(calls, calls[1:]))  # every step once, in order

@@ -13,7 +13,12 @@ estimate in the message. The estimates are rough upper bounds:
             core.series.written() keeps, or all kept rows with --full-series) and
             for FE the ParaView frames (VTK_BYTES_PER_NODE a node and frame)
     time    STEP_SECONDS a step, and FE_STEP_SECONDS_PER_DOF a degree of
-            freedom and step: the explicit loop of the coarse mesh
+            freedom and step: the explicit loop of the coarse mesh; and for FE
+            FRICTION_UPDATE_SECONDS per friction-law update of a contact node, of
+            which a stiff or fast contact takes many a step (the explicit loop's
+            sub-steps, fem.explicit.friction_substeps, at most
+            fem.contact.MAX_SUBSTEPS), and the analytic stepper run beside
+            at its own step (runs.analytic_scene)
 """
 
 import os
@@ -30,6 +35,7 @@ CSV_BYTES_PER_VALUE = 25           # a double's repr and its comma
 VTK_BYTES_PER_NODE = 600           # 7 fields, 22 values a node, base64 + headers
 STEP_SECONDS = 1e-7                # the analytic stepper: 30-70 ns a step
 FE_STEP_SECONDS_PER_DOF = 6e-8     # explicit, coarse mesh: ~40 us for 720 DOFs
+FRICTION_UPDATE_SECONDS = 6e-8     # one law update of one node (fem.step_cost.COST["friction"])
 POINT_BYTES = 16_384               # a sweep point without series: scene.toml, summary.json, checks.json
 LONGEST_RUN_S = 30 * 86400         # refused beyond: a typo in time.T rather than a study
 
@@ -69,6 +75,26 @@ def fe_dofs(scene) -> int:
     return 3 * (nx + 1) * (ny + 1) * (nz + 1)
 
 
+def contact_nodes(scene) -> int:
+    nx, ny, _ = level_counts(scene.fem.mesh)
+    return (nx + 1) * (ny + 1)
+
+
+def friction_updates(scene) -> int:
+    """Friction-law updates a node takes in a step of the FE loop (its sub-steps)."""
+    from .fem.contact import MAX_SUBSTEPS
+    from .fem.explicit import friction_substeps
+
+    return min(friction_substeps(scene), MAX_SUBSTEPS)
+
+
+def analytic_beside_steps(scene) -> float:
+    """Steps of the analytic stepper an FE run runs beside it (runs.analytic_scene)."""
+    from .runs import analytic_scene
+
+    return scene.time.T / analytic_scene(scene).time.dt
+
+
 def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) -> dict:
     """Rough needs of one run of ``scene``: steps, rows, memory and disk bytes, seconds;
     ``series``: the run writes its time series (an analytic sweep point writes
@@ -85,6 +111,8 @@ def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) ->
         dofs = fe_dofs(scene)
         memory += dofs * FE_BYTES_PER_DOF
         seconds += scene.steps * dofs * FE_STEP_SECONDS_PER_DOF
+        seconds += scene.steps * contact_nodes(scene) * friction_updates(scene) * FRICTION_UPDATE_SECONDS
+        seconds += analytic_beside_steps(scene) * STEP_SECONDS
         if scene.fem.output_every > 0:
             frames = scene.steps // scene.fem.output_every + 2
             disk += frames * (dofs // 3) * VTK_BYTES_PER_NODE
