@@ -21,6 +21,7 @@ estimate in the message. The estimates are rough upper bounds:
             at its own step (runs.analytic_scene)
 """
 
+import copy
 import os
 import shutil
 from pathlib import Path
@@ -111,8 +112,11 @@ def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) ->
         dofs = fe_dofs(scene)
         memory += dofs * FE_BYTES_PER_DOF
         seconds += scene.steps * dofs * FE_STEP_SECONDS_PER_DOF
-        seconds += scene.steps * contact_nodes(scene) * friction_updates(scene) * FRICTION_UPDATE_SECONDS
-        seconds += analytic_beside_steps(scene) * STEP_SECONDS
+        # on a copy: the friction law these load is cached on the scene, and a scene
+        # holding it (a module) could no longer be sent to a sweep's worker processes
+        own = copy.copy(scene)
+        seconds += scene.steps * contact_nodes(own) * friction_updates(own) * FRICTION_UPDATE_SECONDS
+        seconds += analytic_beside_steps(own) * STEP_SECONDS
         if scene.fem.output_every > 0:
             frames = scene.steps // scene.fem.output_every + 2
             disk += frames * (dofs // 3) * VTK_BYTES_PER_NODE
