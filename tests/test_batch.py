@@ -203,7 +203,7 @@ def test_a_point_that_fails_in_its_run_is_recorded_and_retried_alone(tmp_path, c
     assert main(args) == EXIT_POINTS_FAILED
     assert "failed contact.k_t=8000000000.0: numerical trouble" in capsys.readouterr().err
     failed = out / "points" / "contact.k_t=8000000000.0"
-    assert sorted(p.name for p in failed.iterdir()) == ["scene.toml", "summary.json"]
+    assert sorted(p.name for p in failed.iterdir()) == ["checks.json", "scene.toml", "summary.json"]
     assert [r["error"] == "" for r in results(out)] == [True, False]
 
     before = summary_times(out)

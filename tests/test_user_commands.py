@@ -147,6 +147,14 @@ def test_a_claimed_name_stays_claimed_while_its_results_move_in(tmp_path, monkey
         return rename(self, target)
 
     monkeypatch.setattr(Path, "rename", rename_while_another_run_claims)
+    exchange = output._exchange
+
+    def exchange_while_another_run_claims(stage, target):
+        if Path(target) == mine:
+            others.append(output.default_dir("x"))
+        return exchange(stage, target)
+
+    monkeypatch.setattr(output, "_exchange", exchange_while_another_run_claims)
     with output.staged(mine, "analytic", claimed=True) as stage:
         (stage / "summary.json").write_text("{}")
     assert others == [mine.with_name(mine.name + "-2")]

@@ -13,9 +13,15 @@ estimate in the message. The estimates are rough upper bounds:
             core.series.written() keeps, or all kept rows with --full-series) and
             for FE the ParaView frames (VTK_BYTES_PER_NODE a node and frame)
     time    STEP_SECONDS a step, and FE_STEP_SECONDS_PER_DOF a degree of
-            freedom and step: the explicit loop of the coarse mesh
+            freedom and step: the explicit loop of the coarse mesh; and for FE
+            FRICTION_UPDATE_SECONDS per friction-law update of a contact node, of
+            which a stiff or fast contact takes many a step (the explicit loop's
+            sub-steps, fem.explicit.friction_substeps, at most
+            fem.contact.MAX_SUBSTEPS), and the analytic stepper run beside
+            at its own step (runs.analytic_scene)
 """
 
+import copy
 import os
 import shutil
 from pathlib import Path
@@ -30,6 +36,8 @@ CSV_BYTES_PER_VALUE = 25           # a double's repr and its comma
 VTK_BYTES_PER_NODE = 600           # 7 fields, 22 values a node, base64 + headers
 STEP_SECONDS = 1e-7                # the analytic stepper: 30-70 ns a step
 FE_STEP_SECONDS_PER_DOF = 6e-8     # explicit, coarse mesh: ~40 us for 720 DOFs
+FRICTION_UPDATE_SECONDS = 6e-8     # one law update of one node (fem.step_cost.COST["friction"])
+POINT_BYTES = 16_384               # a sweep point without series: scene.toml, summary.json, checks.json
 LONGEST_RUN_S = 30 * 86400         # refused beyond: a typo in time.T rather than a study
 
 
@@ -68,20 +76,47 @@ def fe_dofs(scene) -> int:
     return 3 * (nx + 1) * (ny + 1) * (nz + 1)
 
 
-def estimate(scene, fe: bool, full_series: bool = False) -> dict:
-    """Rough needs of one run of ``scene``: steps, rows, memory and disk bytes, seconds."""
+def contact_nodes(scene) -> int:
+    nx, ny, _ = level_counts(scene.fem.mesh)
+    return (nx + 1) * (ny + 1)
+
+
+def friction_updates(scene) -> int:
+    """Friction-law updates a node takes in a step of the FE loop (its sub-steps)."""
+    from .fem.contact import MAX_SUBSTEPS
+    from .fem.explicit import friction_substeps
+
+    return min(friction_substeps(scene), MAX_SUBSTEPS)
+
+
+def analytic_beside_steps(scene) -> float:
+    """Steps of the analytic stepper an FE run runs beside it (runs.analytic_scene)."""
+    from .runs import analytic_scene
+
+    return scene.time.T / analytic_scene(scene).time.dt
+
+
+def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) -> dict:
+    """Rough needs of one run of ``scene``: steps, rows, memory and disk bytes, seconds;
+    ``series``: the run writes its time series (an analytic sweep point writes
+    only its scene and summary, POINT_BYTES)."""
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     columns = len(COLUMNS) + (1 if fe else 0)
     series_files = 2 if fe else 1  # an FE run writes the analytic series beside its own
     memory = 3 * plan.rows * columns * 8
     rows_written = plan.rows if full_series else written_rows(scene)
-    disk = series_files * rows_written * columns * CSV_BYTES_PER_VALUE
+    disk = series_files * rows_written * columns * CSV_BYTES_PER_VALUE if series else POINT_BYTES
     seconds = scene.steps * STEP_SECONDS
     dofs = 0
     if fe:
         dofs = fe_dofs(scene)
         memory += dofs * FE_BYTES_PER_DOF
         seconds += scene.steps * dofs * FE_STEP_SECONDS_PER_DOF
+        # on a copy: the friction law these load is cached on the scene, and a scene
+        # holding it (a module) could no longer be sent to a sweep's worker processes
+        own = copy.copy(scene)
+        seconds += scene.steps * contact_nodes(own) * friction_updates(own) * FRICTION_UPDATE_SECONDS
+        seconds += analytic_beside_steps(own) * STEP_SECONDS
         if scene.fem.output_every > 0:
             frames = scene.steps // scene.fem.output_every + 2
             disk += frames * (dofs // 3) * VTK_BYTES_PER_NODE
@@ -89,12 +124,13 @@ def estimate(scene, fe: bool, full_series: bool = False) -> dict:
             "memory": memory, "disk": disk, "seconds": seconds}
 
 
-def check(scenes, fe: bool, out: Path, full_series: bool = False) -> None:
+def check(scenes, fe: bool, out: Path, full_series: bool = False, series: bool = True) -> None:
     """Refuse, before any work, runs of ``scenes`` (one, or a sweep's points,
     run side by side on at most two processes) that cannot fit in this
     machine's memory, in the free disk under ``out``, or in LONGEST_RUN_S;
-    ``full_series``: the runs write every kept row of their time series."""
-    needs = [(scene, estimate(scene, fe, full_series)) for scene in scenes]
+    ``full_series``: the runs write every kept row of their time series;
+    ``series``: they write their time series at all (see estimate)."""
+    needs = [(scene, estimate(scene, fe, full_series, series)) for scene in scenes]
     if not needs:  # a sweep none of whose points makes a scene: nothing will run
         return
     scene, worst = max(needs, key=lambda pair: pair[1]["memory"])

@@ -2,6 +2,9 @@
 
 import argparse
 import atexit
+import contextlib
+import errno
+import faulthandler
 import gc
 import json
 import logging
@@ -16,6 +19,7 @@ from .core.errors import NumericalError, Refusal
 from .output import OutputError
 from .parallel import interruptible
 
+EXIT_FAILED = 1          # something failed that is not the input's fault (a full disk, a bug)
 EXIT_BAD_INPUT = 2
 EXIT_NUMERICAL = 3
 EXIT_POINTS_FAILED = 4   # a sweep finished, but some of its points failed
@@ -146,12 +150,26 @@ def _warn_unsettled(summary: dict, label: str = "") -> None:
 
 
 def _target(args, command: str):
-    """(directory, claimed): --out once checked (output.check_target), or a
-    fresh default name claimed for this run."""
+    """(directory, claimed): --out once checked (output.check_target) and locked
+    for the rest of the command (output.locked: a second writer is refused at
+    once), or a fresh default name claimed for this run."""
     if args.out is None:
         return None, True
+    return _locked_out(args, command)[0], False
+
+
+def _locked_out(args, command: str):
+    """--out checked, locked, checked again (it may have changed before the lock
+    was taken), and cleared of what a killed run left beside it: (the directory
+    written, what check_target says of it). A symlink's folder is the directory."""
     output.check_target(args.out, command, args.force)
-    return args.out, False
+    target = args.held.enter_context(output.locked(args.out))
+    verdict = output.check_target(target, command, args.force)
+    cleared = output.clear_leftovers(target)
+    if cleared:
+        print(f"vibrofric: removed what a killed run left beside {target}: {', '.join(cleared)}",
+              file=sys.stderr)
+    return target, verdict
 
 
 def _check_stepper(scene, stepper: str) -> None:
@@ -268,10 +286,17 @@ def cmd_sweep(args) -> int:
 
     scene = scene_module.load(args.scene, args.overrides)
     grid = [parse_grid(text) for text in args.grid]
-    fresh = False
-    if args.out is not None:
-        fresh = output.check_target(args.out, "sweep", args.force) == "replace"
-    outcome = run_sweep(scene, grid, "fe" if args.fe else "analytic", args.out, args.workers,
+    from .batch import mpi
+
+    fresh, out = False, None
+    comm = mpi.world()
+    if args.out is not None and comm is not None and comm.rank != 0:
+        out = output.real_target(args.out)  # rank 0 holds the lock for all
+        output.check_target(out, "sweep", args.force)
+    elif args.out is not None:
+        out, verdict = _locked_out(args, "sweep")
+        fresh = verdict == "replace"
+    outcome = run_sweep(scene, grid, "fe" if args.fe else "analytic", out, args.workers,
                         fresh=fresh)
     if outcome.leader:  # under mpirun, rank 0 speaks for all
         if args.json:
@@ -311,6 +336,9 @@ def _interrupted(command: str, signal_name: str) -> str:
     if command == "sweep":
         return (f"vibrofric: sweep interrupted {how}; the finished points are kept: rerun the "
                 "same command to resume")
+    if output.committed:  # the signal waited for the results to move in (output.commit)
+        return (f"vibrofric: {command} interrupted {how} after its results were written: "
+                f"results in {output.committed[-1]}")
     return f"vibrofric: {command} interrupted {how}; nothing was written"
 
 
@@ -341,19 +369,72 @@ def _explained(err: Exception):
     return None
 
 
+DISK_FULL = (errno.ENOSPC, errno.EDQUOT)
+
+
+def _crash_log(command: str) -> Path | None:
+    """Write the traceback being handled to a log file in the user's cache
+    directory ($XDG_CACHE_HOME/vibrofric, default ~/.cache/vibrofric); its path."""
+    import datetime
+    import os
+    import traceback
+
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "vibrofric"
+    stamp = datetime.datetime.now().strftime("%Y%m%d-%H%M%S")
+    path = base / f"crash-{command}-{stamp}-{os.getpid()}.log"
+    try:
+        base.mkdir(parents=True, exist_ok=True)
+        path.write_text(f"vibrofric {' '.join(sys.argv[1:])}\n\n{traceback.format_exc()}")
+    except OSError:
+        return None
+    return path
+
+
+def _unexpected(command: str, err: BaseException) -> str:
+    """One line for an error that is not the user's to fix: what failed, and
+    where the full traceback went."""
+    log = _crash_log(command)
+    where = f"the full traceback is in {log}" if log else "the traceback could not be written"
+    frame = traceback_origin(err)
+    return (f"vibrofric: {command} failed unexpectedly: {type(err).__name__}: {err} "
+            f"(at {frame}; {where}; please report it)")
+
+
+def traceback_origin(err: BaseException) -> str:
+    """file:line of the innermost frame of ``err``'s traceback."""
+    tb = err.__traceback__
+    while tb is not None and tb.tb_next is not None:
+        tb = tb.tb_next
+    if tb is None:
+        return "?"
+    return f"{Path(tb.tb_frame.f_code.co_filename).name}:{tb.tb_lineno}"
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     _quiet_libraries()
+    if not faulthandler.is_enabled():  # a crash in compiled code (numba, PETSc) shows its stack
+        faulthandler.enable()
+    output.committed.clear()
     try:
-        with interruptible():
+        with interruptible(), contextlib.ExitStack() as args.held:  # the locks of --out
             return COMMANDS[args.command](args) or 0
     except KeyboardInterrupt as interrupt:
         print(_interrupted(args.command, str(interrupt)), file=sys.stderr)
         return EXIT_INTERRUPTED
+    except OSError as err:
+        if err.errno in DISK_FULL:
+            name = f" writing {err.filename}" if err.filename else ""
+            print(f"vibrofric: {args.command} stopped: the disk is full ({err.strerror}){name}; "
+                  "nothing half-written was kept", file=sys.stderr)
+            return EXIT_FAILED
+        print(_unexpected(args.command, err), file=sys.stderr)
+        return EXIT_FAILED
     except Exception as err:
         explained = _explained(err)
         if explained is None:
-            raise
+            print(_unexpected(args.command, err), file=sys.stderr)
+            return EXIT_FAILED
         message, code = explained
         print(message, file=sys.stderr)
         if getattr(args, "verbose", False) and getattr(err, "detail", ""):

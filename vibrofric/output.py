@@ -19,11 +19,16 @@ do with its ``--out``:
 
 import contextlib
 import csv
+import ctypes
 import datetime
+import errno
+import fcntl
 import gc
 import json
 import os
 import shutil
+import signal
+import sys
 import traceback
 import uuid
 from pathlib import Path
@@ -83,6 +88,11 @@ def check_target(target: Path, command: str, force: bool = False) -> str:
     if target.name in ("", ".", "..") or resolved == here or resolved in here.parents:
         raise OutputError(f"--out {target}: the current directory or one above it; "
                           "name a new directory for the results")
+    if resolved.is_dir() and os.path.ismount(resolved):
+        raise OutputError(f"--out {target}: is a mount point, which results (moved into place "
+                          "whole by a rename) cannot replace; nothing was touched: name a new "
+                          f"directory inside it, e.g. --out {target / 'results'}")
+    target = real_target(target)
     if target.exists() and not target.is_dir():
         raise OutputError(f"--out {target}: is a file, not a results directory; nothing was touched")
     if target.is_dir():
@@ -98,6 +108,87 @@ def check_target(target: Path, command: str, force: bool = False) -> str:
                               f"{marker['command']}; add --force to replace them")
     _check_writable(existing_ancestor(target.parent), target)
     return "replace" if target.is_dir() and any(target.iterdir()) else "new"
+
+
+def real_target(target: Path) -> Path:
+    """``target`` with a symlink in its last part followed: results go into the
+    folder the link names (and --force replaces that folder, never the link)."""
+    target = Path(target)
+    return Path(os.path.realpath(target)) if target.is_symlink() else target
+
+
+class Busy(OutputError):
+    """Another vibrofric process is writing the same results directory."""
+
+
+def _lock_path(target: Path) -> Path:
+    return target.with_name(f".{target.name}.lock")
+
+
+@contextlib.contextmanager
+def locked(target: Path):
+    """Hold the lock of results directory ``target`` (fcntl.flock on ``.<name>.lock``
+    beside it) while within; raise Busy at once if another process holds it.
+
+    The lock file is removed on the way out; a process that opened it just
+    before finds, once it holds the lock, that the name now points elsewhere
+    (or nowhere) and tries again, so two holders of one name are impossible.
+    The kernel releases the lock of a killed process; a stale lock file is
+    harmless (it is taken over).
+    """
+    target = real_target(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    path = _lock_path(target)
+    while True:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            raise Busy(f"--out {target}: another vibrofric process is writing it now "
+                       f"(it holds {path.name}); nothing was touched") from None
+        try:
+            same = os.stat(path).st_ino == os.fstat(fd).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    try:
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{os.getpid()}\n".encode())
+        yield target
+    finally:
+        with contextlib.suppress(OSError):
+            os.unlink(path)
+        os.close(fd)
+
+
+def leftovers(target: Path) -> list:
+    """What killed writers of ``target`` left beside it: ``.<name>.part-*`` entries
+    (stages never renamed in, old results not yet deleted). Call it holding the lock."""
+    target = Path(target)
+    prefix = f".{target.name}{PARTIAL}"
+    try:
+        return sorted(p for p in target.parent.iterdir() if p.name.startswith(prefix))
+    except FileNotFoundError:
+        return []
+
+
+def clear_leftovers(target: Path) -> list:
+    """Remove leftovers(target); return their names (for the caller to report)."""
+    found = leftovers(target)
+    for entry in found:
+        _delete(entry)
+    return [entry.name for entry in found]
+
+
+def _delete(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()
 
 
 def _check_writable(directory: Path, target: Path) -> None:
@@ -160,11 +251,62 @@ def staged(target: Path, command: str | None = None, claimed: bool = False):
             with contextlib.suppress(OSError):
                 target.rmdir()  # only if still empty
         raise
-    if target.exists() and any(target.iterdir()):
-        remove(target)  # earlier results (--force)
-    # rename(2) replaces an empty directory in one step: a name default_dir() claimed
-    # is never free for another run to claim while this one's results move in.
-    stage.rename(target)
+    commit(stage, target)
+
+
+# Results moved in: renames done by commit(), for an honest message on an interrupt.
+committed = []
+
+RENAME_EXCHANGE = 2  # linux/fs.h
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap the names ``a`` and ``b`` in one step (renameat2 RENAME_EXCHANGE);
+    False where the kernel, C library or file system cannot."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        renameat2 = ctypes.CDLL(None, use_errno=True).renameat2
+    except AttributeError:
+        return False
+    AT_FDCWD = -100
+    if renameat2(AT_FDCWD, os.fsencode(a), AT_FDCWD, os.fsencode(b), RENAME_EXCHANGE) == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.EINVAL, errno.ENOSYS, errno.ENOTSUP):
+        return False
+    raise OSError(code, os.strerror(code), str(a))
+
+
+def commit(stage: Path, target: Path) -> None:
+    """Move the finished ``stage`` in as ``target``: at every instant the old
+    results (if any) or the new ones are whole under the name.
+
+    An existing ``target`` (earlier results, replaced with --force, a damaged
+    sweep point, or the empty directory default_dir() claimed) is swapped with
+    the stage in one step and deleted afterwards under its partial name; where
+    the file system cannot swap, it is renamed aside first. Ctrl-C and SIGTERM
+    wait until the new results are in place. A kill while the old ones are
+    being deleted leaves them as a partial, which the next run clears.
+    """
+    blocked = {signal.SIGINT, signal.SIGTERM}
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
+    try:
+        if os.path.lexists(target):
+            if not _exchange(stage, target):
+                aside = _partial(target, "old-")
+                os.rename(target, aside)
+                os.rename(stage, target)
+                stage = aside
+            committed.append(target)
+            _delete(stage)  # now the old results
+        else:
+            # rename(2) replaces an empty directory in one step: a name default_dir()
+            # claimed is never free for another run to claim while results move in.
+            stage.rename(target)
+            committed.append(target)
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 def remove(target: Path) -> None:
@@ -172,7 +314,7 @@ def remove(target: Path) -> None:
     mid-way leaves a partial (remove_partials) rather than half a directory."""
     doomed = _partial(Path(target), "old-")
     Path(target).rename(doomed)
-    shutil.rmtree(doomed, ignore_errors=True)
+    _delete(doomed)
 
 
 @contextlib.contextmanager
@@ -196,6 +338,39 @@ def write_scene(directory: Path, scene) -> None:
 
     with staged_file(directory / "scene.toml") as partial:
         partial.write_text(scene_module.to_toml(scene))
+
+
+CHECKS = "checks.json"  # in a sweep's point: {file: {"bytes": n, "sha256": hex}} of the others
+
+
+def _files(directory: Path) -> list:
+    return sorted(p.relative_to(directory).as_posix() for p in Path(directory).rglob("*")
+                  if p.is_file() and p.name != CHECKS)
+
+
+def _digest(path: Path) -> dict:
+    import hashlib
+
+    with open(path, "rb") as f:
+        return {"bytes": path.stat().st_size, "sha256": hashlib.file_digest(f, "sha256").hexdigest()}
+
+
+def write_checks(directory: Path) -> None:
+    """Record the size and SHA-256 of every file in ``directory`` (written last)."""
+    directory = Path(directory)
+    checks = {name: _digest(directory / name) for name in _files(directory)}
+    (directory / CHECKS).write_text(json.dumps(checks, indent=1) + "\n")
+
+
+def checks_out(directory: Path) -> bool:
+    """True if ``directory`` holds exactly the files write_checks() recorded, unchanged."""
+    directory = Path(directory)
+    try:
+        checks = json.loads((directory / CHECKS).read_text())
+        return (isinstance(checks, dict) and sorted(checks) == _files(directory)
+                and all(_digest(directory / name) == checks[name] for name in checks))
+    except (OSError, ValueError):
+        return False
 
 
 def write_summary(directory: Path, summary: dict) -> None:

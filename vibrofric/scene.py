@@ -21,6 +21,7 @@ from .core import errors
 from .friction_law import ContactLaw, LawError, ParameterError, load_law
 from .friction_law.contract import BUILT_IN, is_law_file
 from .meshes import level_counts
+from .sense import nonsense
 
 
 class SceneError(ValueError):
@@ -457,6 +458,9 @@ def parse_assignment(text: str):
     key, sep, value = text.partition("=")
     if not sep:
         raise SceneError(text, "expected section.key=value")
+    if "\n" in text or "\r" in text:
+        raise SceneError(key.strip(), f"{text!r} holds a line break: give one section.key=value "
+                                      "per --set")
     key = key.strip()
     _split_key(key)
     return key, parse_value(value.strip())
@@ -478,8 +482,12 @@ def _read_scene_text(path: Path) -> str:
 def load(path, overrides=()) -> Scene:
     """Read a scene file and apply ``section.key=value`` overrides."""
     path = Path(path)
+    text = _read_scene_text(path)
+    if not text.strip():
+        raise SceneError(str(path), "is empty: a scene holds the keys that differ from the "
+                                    "defaults (a comment line alone runs the defaults)")
     try:
-        raw = tomllib.loads(_read_scene_text(path))
+        raw = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise SceneError(str(path), f"not valid TOML: {err}") from None
     for section, values in raw.items():
@@ -578,6 +586,9 @@ def validate(scene: Scene) -> None:
         level_counts(scene.fem.mesh)
     except ValueError as err:
         raise SceneError("fem.mesh", str(err)) from None
+    flat = {f"{section}.{k}": v for section, keys in to_dict(scene).items() for k, v in keys.items()}
+    if (refusal := nonsense(flat)) is not None:
+        raise SceneError(*refusal)
     try:  # a law file's first steps at the scene's values, bounds-checked (friction_law.law_check)
         law = load_law(scene.contact.law)   # (not scene.friction: a Scene stays picklable)
         law.probe(ContactLaw(law, law.values(scene.contact.given), scene.contact.F_N),

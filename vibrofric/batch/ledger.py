@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 from .. import output
-from .points import ERROR, read_point
+from .points import DAMAGED, ERROR, read_point
 
 PAUSE = 10       # rewrites of results.csv take at most 1 / (1 + PAUSE) of a sweep's time
 
@@ -30,14 +30,17 @@ class Ledger:
         self.mode = mode
         self.directory = directory
         self.records = {}
+        self.damaged = set()  # names of points whose directories did not check out
         self._next_write = 0.0  # time.monotonic() before which a throttled rewrite is skipped
 
     def read(self, points=None) -> None:
         """Read these points' directories again (default: every point)."""
         for point in self.points if points is None else points:
             record = read_point(point, self.mode)
-            if record is None:
+            if record is None or record is DAMAGED:
                 self.records.pop(point.name, None)
+                if record is DAMAGED:
+                    self.damaged.add(point.name)
             else:
                 self.records[point.name] = record
 

@@ -11,12 +11,17 @@
     fe points also: timeseries.csv, analytic_timeseries.csv and, if
                    fem.output_every > 0, the ParaView series paraview/block.pvd
 
+    checks.json   the size and SHA-256 of each of the files above, written last
+
 A point's directory appears whole or not at all (output.staged), so a
-directory that is there is a finished point: done, or failed with its error.
+directory that is there is a finished point: done, or failed with its error,
+unless something changed it since: a point whose files do not match
+checks.json, or whose summary is not one a point writes, is DAMAGED, and runs again.
 """
 
 import functools
 import json
+import math
 import traceback
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,6 +34,7 @@ from ..parallel import stop_if_interrupted
 from ..scene import Scene, SceneError
 
 ERROR = "error"  # a failed point's summary.json and record hold why under this key
+DAMAGED = "damaged"  # read_point's answer for a point directory that does not check out
 PLAIN_ERRORS = {SceneError: "invalid scene", NumericalError: "numerical trouble"}
 
 
@@ -117,6 +123,7 @@ def run_point(point: Point, mode: str) -> None:
             with output.staged(point.directory) as stage:
                 ran = RUNNERS[mode](point.scene, stage)
                 output.write_summary(stage, {"point": point.values, "mode": mode, **ran})
+                output.write_checks(stage)
                 stop_if_interrupted()  # a run a swallowed interrupt cut short is not kept
             return
         except Exception as err:  # a failed point is recorded, and the sweep goes on
@@ -128,22 +135,42 @@ def run_point(point: Point, mode: str) -> None:
         if point.scene is not None:
             output.write_scene(stage, point.scene)
         output.write_summary(stage, {"point": point.values, "mode": mode, **failure})
+        output.write_checks(stage)
 
 
-def read_point(point: Point, mode: str) -> dict | None:
+def _ratios_make_sense(result: dict) -> bool:
+    """Every F_dv/F_d0 of a result (an FE point's FE and analytic ones) a finite
+    number, or None (no friction): a summary edited to "NaN" or text is not."""
+    ratios = [result.get(k, {}).get("F_dv_over_F_d0") for k in ("fe", "analytic")
+              if isinstance(result.get(k), dict)] or [result.get("F_dv_over_F_d0")]
+    return all(r is None or (isinstance(r, (int, float)) and not isinstance(r, bool) and math.isfinite(r))
+               for r in ratios)
+
+
+def read_point(point: Point, mode: str):
     """The point's record as its directory holds it: the grid values, then the
     result keys or "error". None if there is no directory, or it holds another
     sweep's point (another scene.toml, e.g. after a change to the base scene,
-    or the other mode): that one is rerun and replaced."""
+    or the other mode): that one is rerun and replaced. DAMAGED if it is there
+    but does not check out (see the module): rerun, and counted as such."""
+    if not point.directory.exists() and not point.directory.is_symlink():
+        return None
+    if not point.directory.is_dir() or not output.checks_out(point.directory):
+        return DAMAGED
     try:
         summary = json.loads((point.directory / "summary.json").read_text())
-    except (FileNotFoundError, json.JSONDecodeError):
-        return None
+    except (OSError, ValueError):
+        return DAMAGED
+    if not isinstance(summary, dict) or not isinstance(summary.get("mode"), str):
+        return DAMAGED
     # a point refused now has no scene, and its directory none either
     written = point.directory / "scene.toml"
     scene_toml = written.read_text() if written.exists() else None
-    if summary.get("mode") != mode or scene_toml != point.scene_toml:
+    if summary["mode"] != mode or scene_toml != point.scene_toml:
         return None
     if ERROR in summary:
-        return {**point.values, ERROR: summary[ERROR]}
-    return {**point.values, **summary["result"]}
+        return {**point.values, ERROR: str(summary[ERROR])}
+    result = summary.get("result")
+    if not isinstance(result, dict) or not _ratios_make_sense(result):
+        return DAMAGED
+    return {**point.values, **result}

@@ -43,6 +43,7 @@ class Outcome:
     reused: int
     wall_time_s: float
     leader: bool
+    damaged: int = 0  # points found damaged on disk (points.DAMAGED) and run again
 
     @property
     def failed(self) -> list:
@@ -67,8 +68,9 @@ class Outcome:
         return [r for r in self.records if ERROR not in r and not settled(r)]
 
     def summary_line(self) -> str:
-        line = (f"sweep: {len(self.records)} points ({self.reused} reused), {len(self.failed)} failed, "
-                f"{len(self.unsettled)} unsettled, {self.wall_time_s:.1f} s")
+        rerun = f", {self.damaged} found damaged and rerun" if self.damaged else ""
+        line = (f"sweep: {len(self.records)} points ({self.reused} reused{rerun}), "
+                f"{len(self.failed)} failed, {len(self.unsettled)} unsettled, {self.wall_time_s:.1f} s")
         methods = [r["periodic"]["method"] for r in self.records
                    if ERROR not in r and isinstance(r.get("periodic"), dict)]
         if methods:   # time.method periodic or auto (analytic/periodic.py)
@@ -118,7 +120,7 @@ def _prepare(scene, ledger: Ledger, out: Path) -> list:
     output.write_scene(out, scene)
     ledger.read()
     for point in ledger.points:
-        if point.name in ledger.records and not ledger.is_done(point):
+        if point.name in ledger.damaged or (point.name in ledger.records and not ledger.is_done(point)):
             output.remove(point.directory)
     ledger.read()
     ledger.write_csv()
@@ -168,7 +170,8 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         out = comm.bcast(out, root=0)  # rank 0's time stamp in the default name
     out = Path(out)
     ledger = Ledger(plan(scene, grid, out / "points"), mode, out)
-    budget.check([p.scene for p in ledger.points if p.scene is not None], mode == "fe", out)
+    budget.check([p.scene for p in ledger.points if p.scene is not None], mode == "fe", out,
+                 series=mode == "fe")  # an analytic point keeps its summary alone (points.py)
     if fresh and leader and out.exists():
         output.remove(out)
     todo = _prepare(scene, ledger, out) if leader else None
@@ -205,4 +208,4 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
     if leader:
         _figures(ledger, keys, scene, out)
     return Outcome(ledger.in_grid_order(), keys, out, reused,
-                   time.perf_counter() - start, leader)
+                   time.perf_counter() - start, leader, len(ledger.damaged))

@@ -167,15 +167,19 @@ def finish_step(t, t_on, f_d, f_n, f_x, f_y, x, y, x_b, y_b, friction_magnitude,
 # Ctrl-C is answered. The loops keep all their state in arrays, so where a run
 # is cut into chunks does not change its results.
 PROGRESS_STEPS = 5000
+CHUNK_SECONDS = 0.2
 
 
 def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
     """Run steps 1..steps by ``advance(first, last) -> stop step or 0``, returning to
-    Python only for the ParaView frames, frame(state(i)) at i = 0, every ``every``
-    steps and at the last step, and for ``progress(i, steps)`` every
-    PROGRESS_STEPS steps and at the end, and ``progress(0, steps)`` first: the loop's
-    clock starts (its compiled step is ready). Returns (the last step run, the loop's
-    seconds)."""
+    Python for the ParaView frames, frame(state(i)) at i = 0, every ``every``
+    steps and at the last step, for ``progress(i, steps)`` every
+    PROGRESS_STEPS steps and at the end, and ``progress(0, steps)`` first (the
+    loop's clock starts: its compiled step is ready), and at least every
+    CHUNK_SECONDS or so (a chunk of steps doubles while it takes under half of
+    it): Ctrl-C and SIGTERM, which Python handles only between compiled calls,
+    end even a run of slow steps (a stiff contact's thousands of friction
+    sub-steps) at once. Returns (the last step run, the loop's seconds)."""
     frames = frame is not None and every > 0
     if progress is not None:
         progress(0, steps)
@@ -183,13 +187,20 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
         frame(state(0))
     start = time.perf_counter()
     first, last = 1, 0
+    chunk = 1  # steps a call, grown while a call takes under CHUNK_SECONDS / 2
     while first <= steps:
-        last = steps
+        last = min(steps, first + chunk - 1)
         if frames:
             last = min(last, (first // every + 1) * every)
         if progress is not None:
             last = min(last, (first // PROGRESS_STEPS + 1) * PROGRESS_STEPS)
+        called = time.perf_counter()
         stop = advance(first, last)
+        took = time.perf_counter() - called
+        if took < CHUNK_SECONDS / 2 and last - first + 1 == chunk:
+            chunk *= 2
+        elif took > CHUNK_SECONDS and chunk > 1:
+            chunk //= 2
         if stop:
             last = stop
             break
