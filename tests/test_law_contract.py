@@ -350,7 +350,12 @@ def test_rigid_contact_patch_reproduces_lumped_law(name):
                         'fem.mesh="tiny"', "time.average_cycles=8")
     fe = summarize(run_fe(scene).series, scene, 0.0)["F_dv_over_F_d0"]
     analytic = run_analytic(analytic_scene(scene))[1]["F_dv_over_F_d0"]
-    assert abs(fe - analytic) <= RIGID_PATCH_TOLERANCE * analytic, (fe, analytic)
+    # The paper's explicit update is first order in its own step, which the FE model
+    # runs on sub-steps (dt / 2 here) and the lumped stepper does not: FE and lumped then
+    # differ by that step error (measured 4.5e-4 at i = 1, 2.9e-4 at i = 0.5): 1e-3.
+    paper = LAWS[name][1].get("update") == "paper"
+    tolerance = 1e-3 if paper else RIGID_PATCH_TOLERANCE
+    assert abs(fe - analytic) <= tolerance * analytic, (fe, analytic)
 
 
 JENKINS = (ROOT / "examples" / "laws" / "jenkins.py").read_text()
