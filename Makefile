@@ -11,7 +11,7 @@
 
 VENV    ?= .venv
 PY      := $(VENV)/bin/python
-DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-matplotlib python3-venv python3-dev libosmesa6 \
+DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-matplotlib python3-pandas python3-venv python3-dev libosmesa6 \
            libopenblas0-pthread
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEMO_OUT ?= results/demo

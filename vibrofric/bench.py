@@ -36,7 +36,7 @@ import numpy as np
 
 from . import scene as scene_module
 
-SCENE = Path(__file__).resolve().parent.parent / "scenes" / "longitudinal.toml"
+SCENE = Path(__file__).resolve().parent / "scenes" / "longitudinal.toml"  # package data
 EXAMPLE_LAW = Path(__file__).resolve().parent.parent / "examples" / "laws" / "maxwell_slip.py"
 
 # The friction laws the bench compares on the same scene: (label, contact.law, its parameters).
