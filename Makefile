@@ -30,7 +30,7 @@ PYTHONS_LATEST ?= python3.12 $(HOME)/.pyenv/versions/3.12*/bin/python python3.13
                   $(HOME)/.pyenv/versions/3.13*/bin/python
 UV_VENV     := .venv-uv
 
-.PHONY: demo test test-fast test-latest bench bench-full setup setup-latest clean clean-cache
+.PHONY: demo test test-fast test-latest bench bench-full docs figures setup setup-latest clean clean-cache
 
 # The paper's Fig 7 scene (longitudinal, k_v = 6) to 0.3 s, FE and analytic
 # (--force: a second make demo replaces the first one's results).
@@ -54,6 +54,13 @@ bench: $(VENV)/.installed
 
 bench-full: $(VENV)/.installed
 	$(VENV)/bin/vibrofric bench --out results/bench-full --force
+
+# This documentation site (mkdocs.yml, docs/) into build/site; --strict: a broken
+# link or any warning fails the build. Needs the docs extra (pip install -e '.[docs]').
+docs: $(VENV)/.installed
+	$(VENV)/bin/python -c "import mkdocs, material, mkdocstrings" 2>/dev/null || \
+	  $(PY) -m pip install -q -c $(VENV)/constraints.txt -e '.[docs]'
+	$(VENV)/bin/mkdocs build --strict --quiet
 
 setup: $(VENV)/.installed
 

@@ -1,4 +1,4 @@
-"""The ``vibrofric`` command (spec/interface.md)."""
+"""The ``vibrofric`` command (docs/command-line.md)."""
 
 import argparse
 import atexit
