@@ -46,7 +46,7 @@ test-fast: $(VENV)/.installed
 test-latest: $(VENV_LATEST)/.installed
 	$(PY_LATEST) $(PYTEST)
 
-# Speed against error of every method (README "Choosing settings"), then the
+# Speed against error of every method (docs/performance.md, "Choosing settings"), then the
 # analytic stepper's own timings (benchmarks/).
 bench: $(VENV)/.installed
 	$(VENV)/bin/vibrofric bench --quick --out results/bench --force
