@@ -55,6 +55,12 @@ bench: $(VENV)/.installed
 bench-full: $(VENV)/.installed
 	$(VENV)/bin/vibrofric bench --out results/bench-full --force
 
+# The paper's Figs 6-12 (analytic, and FE points where the paper had Abaqus
+# ones) into results/figures/, from the literate scripts examples/fig*.py
+# (VIBROFRIC_FE=0: without the FE points; VIBROFRIC_FAST=1: the tests' quick form).
+figures: $(VENV)/.installed
+	@for script in examples/fig*.py; do echo "$$script"; $(PY) $$script || exit 1; done
+
 # This documentation site (mkdocs.yml, docs/) into build/site; --strict: a broken
 # link or any warning fails the build. Needs the docs extra (pip install -e '.[docs]').
 docs: $(VENV)/.installed
