@@ -78,7 +78,7 @@ for i, k in enumerate(k_v):
         ax.plot(rows["vibration.theta_deg"], rows["fe.F_dv_over_F_d0"], "s", ms=8, mfc="none",
                 mew=1.5, color=colour, label=f"$k_v$ = {k:g}, FE model")
 ax.set(xlabel=r"vibration angle $\theta$ (°)", ylabel=r"$F_{dv} / F_{d0}$",
-       xticks=range(0, 361, 45), xlim=(0, 360), ylim=(0, None))
+       xticks=range(0, 361, 45), xlim=(-8, 368), ylim=(0, None))
 ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
 fig.suptitle(r"Fig. 12. Changes in $F_{dv}/F_{d0}$ with $\theta$ at different values of $k_v$")
 fig.tight_layout()
