@@ -11,7 +11,7 @@
 
 VENV    ?= .venv
 PY      := $(VENV)/bin/python
-DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-matplotlib python3-venv python3-dev libosmesa6 \
+DEBS    := python3-dolfinx-real python3-gmsh python3-meshio python3-matplotlib python3-pandas python3-venv python3-dev libosmesa6 \
            libopenblas0-pthread
 SUDO    := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 DEMO_OUT ?= results/demo
@@ -30,7 +30,7 @@ PYTHONS_LATEST ?= python3.12 $(HOME)/.pyenv/versions/3.12*/bin/python python3.13
                   $(HOME)/.pyenv/versions/3.13*/bin/python
 UV_VENV     := .venv-uv
 
-.PHONY: demo test test-fast test-latest bench bench-full setup setup-latest clean clean-cache
+.PHONY: demo test test-fast test-latest bench bench-full docs figures setup setup-latest clean clean-cache
 
 # The paper's Fig 7 scene (longitudinal, k_v = 6) to 0.3 s, FE and analytic
 # (--force: a second make demo replaces the first one's results).
@@ -46,7 +46,7 @@ test-fast: $(VENV)/.installed
 test-latest: $(VENV_LATEST)/.installed
 	$(PY_LATEST) $(PYTEST)
 
-# Speed against error of every method (README "Choosing settings"), then the
+# Speed against error of every method (docs/performance.md, "Choosing settings"), then the
 # analytic stepper's own timings (benchmarks/).
 bench: $(VENV)/.warm
 	$(VENV)/bin/vibrofric bench --quick --out results/bench --force
@@ -54,6 +54,19 @@ bench: $(VENV)/.warm
 
 bench-full: $(VENV)/.installed
 	$(VENV)/bin/vibrofric bench --out results/bench-full --force
+
+# The paper's Figs 6-12 (analytic, and FE points where the paper had Abaqus
+# ones) into results/figures/, from the literate scripts examples/fig*.py
+# (VIBROFRIC_FE=0: without the FE points; VIBROFRIC_FAST=1: the tests' quick form).
+figures: $(VENV)/.installed
+	@for script in examples/fig*.py; do echo "$$script"; $(PY) $$script || exit 1; done
+
+# This documentation site (mkdocs.yml, docs/) into build/site; --strict: a broken
+# link or any warning fails the build. Needs the docs extra (pip install -e '.[docs]').
+docs: $(VENV)/.installed
+	$(VENV)/bin/python -c "import mkdocs, material, mkdocstrings" 2>/dev/null || \
+	  $(PY) -m pip install -q -c $(VENV)/constraints.txt -e '.[docs]'
+	$(VENV)/bin/mkdocs build --strict --quiet
 
 setup: $(VENV)/.warm
 

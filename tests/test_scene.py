@@ -1,4 +1,4 @@
-"""Scene loading, overrides and the refusals of spec/interface.md."""
+"""Scene loading, overrides and the refusals of docs/scenes.md."""
 
 import tomllib
 from pathlib import Path

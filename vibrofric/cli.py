@@ -1,4 +1,4 @@
-"""The ``vibrofric`` command (spec/interface.md)."""
+"""The ``vibrofric`` command (docs/command-line.md)."""
 
 import argparse
 import atexit
@@ -14,7 +14,7 @@ from pathlib import Path
 # Imported here: only what every command needs, and light (no numpy). The scene
 # module (and with it numba), numpy and matplotlib are imported by the commands
 # themselves: ``analytic`` starts its plot process before (plot_worker).
-from . import output
+from . import __version__, output
 from .core.errors import NumericalError, Refusal
 from .output import OutputError
 from .parallel import interruptible
@@ -98,6 +98,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = Parser(
         prog="vibrofric",
         description="Drive force and friction of a body sliding over an in-plane vibrating base.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
 
     analytic = commands.add_parser("analytic", help="the lumped analytic stepper")
@@ -172,18 +173,6 @@ def _locked_out(args, command: str):
     return target, verdict
 
 
-def _check_stepper(scene, stepper: str) -> None:
-    """The 1D longitudinal model [23] has the base moving along X only."""
-    from .scene import SceneError
-
-    if stepper != "longitudinal":
-        return
-    if scene.vibrated and scene.vibration.theta_deg % 180.0 != 0.0:
-        raise SceneError("vibration.theta_deg",
-                         f"{scene.vibration.theta_deg:g} deg: the 1D longitudinal model [23] "
-                         "vibrates the base along X only (0 or 180 deg); use --stepper coupled")
-
-
 def cmd_analytic(args) -> None:
     from .plot_worker import PlotProcess, one_blas_thread
 
@@ -192,10 +181,11 @@ def cmd_analytic(args) -> None:
             from . import budget
             from . import scene as scene_module
             from .analytic.run import run
+            from .api import check_stepper
             from .core.series import written
 
         scene = scene_module.load(args.scene, args.overrides)
-        _check_stepper(scene, args.stepper)
+        check_stepper(scene, args.stepper)
         target, claim = _target(args, "analytic")
         budget.check([scene], fe=False, out=target or Path("results"),
                      full_series=args.full_series)
@@ -245,10 +235,9 @@ def _progress_bar(args, what: str, total: float):
 
 
 def cmd_run(args) -> None:
-    from . import budget, plots
+    from . import budget
     from . import scene as scene_module
-    from .picture import block_picture
-    from .runs import fe_beside_analytic
+    from .api import write_fe_run
 
     scene = scene_module.load(args.scene, args.overrides)
     target, claim = _target(args, "run")
@@ -257,17 +246,9 @@ def cmd_run(args) -> None:
     progress, bar = _progress_bar(args, "FE", scene.time.T)
     with output.staged(target, "run", claimed=claim) as stage:
         try:
-            done = fe_beside_analytic(scene, stage, progress=progress, full_series=args.full_series)
+            document, _ = write_fe_run(scene, stage, progress, args.full_series, out=str(target))
         finally:
             bar.close()
-        document = {**done.document, "out": str(target)}
-        output.write_summary(stage, {**document, "fe_info": done.fe_info})
-        runs = {"FE": done.fe.series, "analytic": done.analytic_series}
-        plots.drive_force_history(runs, scene, stage / "drive_force.png")
-        plots.friction_last_cycles(runs, scene, stage / "friction_last_cycles.png")
-        plots.normal_force_history(done.fe.series, scene, stage / "normal_force.png")
-        if done.fe_info["frames"]:
-            block_picture(stage / "paraview" / "block.pvd", stage / "block.png")
     fe, analytic = document["fe"], document["analytic"]
     _warn_unsettled(fe, "FE")
     _warn_unsettled(analytic, "analytic")

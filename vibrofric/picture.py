@@ -51,15 +51,31 @@ def render(pvd_path, png_path) -> None:
     plotter = pv.Plotter(off_screen=True, window_size=(900, 700))
     plotter.add_mesh(block.extract_surface(algorithm="dataset_surface"), color="lightgrey", opacity=0.2)
     plotter.add_mesh(block.outline(), color="black")
+    # the colour bar upright at the right edge, the block and its arrows left of it
     plotter.add_mesh(bottom, scalars="contact_pressure", cmap="viridis",
-                     scalar_bar_args={"title": "contact pressure (Pa)", "fmt": "%.3g",
-                                      "position_x": 0.2, "width": 0.6})
+                     scalar_bar_args={"title": "contact pressure (Pa)\n", "fmt": "%.3g",
+                                      "vertical": True, "position_x": 0.84, "position_y": 0.15,
+                                      "width": 0.08, "height": 0.7})
     plotter.add_mesh(arrows, color="crimson")
     plotter.add_text(f"t = {time:.4g} s: contact pressure, friction traction (arrows)", font_size=10)
     plotter.view_vector((0.8, -1.2, -0.9), viewup=(0, 0, 1))  # from below, in front of the drive
     plotter.reset_camera()
+    _shift_left(plotter.camera, 0.12)
+    plotter.camera.zoom(0.9)
     plotter.screenshot(str(png_path))
     plotter.close()
+
+
+def _shift_left(camera, fraction: float) -> None:
+    """Move what the camera sees to the left by ``fraction`` of the view's width."""
+    position, focus = np.array(camera.position), np.array(camera.focal_point)
+    forward = focus - position
+    right = np.cross(forward, np.array(camera.up))
+    right /= np.linalg.norm(right)
+    distance = np.linalg.norm(forward)
+    width = 2.0 * distance * np.tan(np.radians(camera.view_angle) / 2.0)
+    shift = fraction * width * right
+    camera.position, camera.focal_point = tuple(position + shift), tuple(focus + shift)
 
 
 if __name__ == "__main__":

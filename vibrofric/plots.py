@@ -104,8 +104,9 @@ def ratio_against_kv(records: list, scene, path, key="F_dv_over_F_d0", fe_key=No
 
 def ratio_against_angle(records: list, path, key="F_dv_over_F_d0", fe_key=None) -> None:
     """F_dv/F_d0 against theta, one curve per k_v (Fig 12 analogue); with
-    ``fe_key``, the FE model's values as markers of the same colour."""
-    fig, ax = figure((7, 4.5))
+    ``fe_key``, the FE model's values as markers of the same colour. The legend
+    stands right of the axes, where it hides no curve."""
+    fig, ax = figure((8.2, 4.5))
     for k_v in sorted({r["vibration.k_v"] for r in records}):
         rows = sorted((r for r in records if r["vibration.k_v"] == k_v),
                       key=lambda r: r["vibration.theta_deg"])
@@ -117,7 +118,7 @@ def ratio_against_angle(records: list, path, key="F_dv_over_F_d0", fe_key=None) 
         ax.plot([], [], "ks", ms=7, mfc="none", label="FE model (markers)")
     ax.set(xlabel=r"vibration angle $\theta$ (°)", ylabel=r"$F_{dv} / F_{d0}$",
            xticks=range(0, 361, 45), ylim=(0, None))
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
 

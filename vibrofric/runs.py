@@ -14,7 +14,7 @@ from .core.series import TimeSeries, written
 from .scene import refused
 
 # The analytic stepper beside an FE run takes at most this step, whatever the
-# FE run's, and at most analytic.coupled.slip_resolving_step: the two-phase
+# FE run's, and at most core.friction.slip_resolving_step: the two-phase
 # update's error is first order in dt (Fig 7 scene: F_dv/F_d0 -0.65% at 1e-5 s
 # against 1e-6 s, within 3e-5 of 1e-8 s at 1e-6 s; k_v = 20 at 75 deg: -1.1% at
 # 1e-6 s), and an implicit FE run at 1e-5 s is accurate to ~0.2%: compared with

@@ -1,6 +1,6 @@
 """Scenes: the physics of one study case plus the numerics that run it.
 
-A scene is a TOML file with the sections of spec/interface.md. Every key has a
+A scene is a TOML file with the sections of docs/scenes.md. Every key has a
 default (the paper's longitudinal case, docs/model.md section 4), so a file
 holds only what differs; ``--set section.key=value`` overrides any key. Every
 value is checked before any work: a bad one raises ``SceneError`` naming it.
@@ -542,7 +542,7 @@ def _positive(scene, key, allow_zero=False):
 
 
 def validate(scene: Scene) -> None:
-    """Refuse physically invalid or unrunnable values (spec/interface.md)."""
+    """Refuse physically invalid or unrunnable values (docs/scenes.md)."""
     for key, choices in CHOICES.items():
         if scene.get(key) not in choices:
             raise SceneError(key, f"must be one of {', '.join(choices)}, got {scene.get(key)!r}")

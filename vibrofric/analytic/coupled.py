@@ -1,4 +1,4 @@
-"""The coupled longitudinal-transverse stepper (paper eqs 7-39, spec section 2).
+"""The coupled longitudinal-transverse stepper (paper eqs 7-39, docs/model.md section 2).
 
 A rigid body of mass m is pulled in X through the drive spring k_d from the
 point B moving at v_d (eq 17) and rubs on the base through one lumped asperity,

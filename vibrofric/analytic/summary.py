@@ -47,7 +47,7 @@ def window_drift(series: TimeSeries, steps: int, dt: float):
 
 
 def summarize(series: TimeSeries, scene, wall_time_s: float) -> dict:
-    """The JSON keys of spec/interface.md for one run, and whether it settled.
+    """The JSON keys of a summary (docs/command-line.md) for one run, and whether it settled.
 
     F_dv/F_d0 is None when there is no friction to reduce (F_d0 = 0, mu = 0).
     ``settled`` is True when window_drift() is at most time.settle_tolerance:
