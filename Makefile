@@ -66,7 +66,7 @@ figures: $(VENV)/.installed
 docs: $(VENV)/.installed
 	$(VENV)/bin/python -c "import mkdocs, material, mkdocstrings" 2>/dev/null || \
 	  $(PY) -m pip install -q -c $(VENV)/constraints.txt -e '.[docs]'
-	$(VENV)/bin/mkdocs build --strict --quiet
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --quiet
 
 setup: $(VENV)/.warm
 
