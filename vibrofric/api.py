@@ -108,7 +108,7 @@ def load_law(name: str | Path) -> "FrictionLaw":
 
     >>> law = load_law("dahl")
     >>> sorted(law.parameters)
-    ['dahl_exponent', 'k_t', 'mu', 'update']
+    ['dahl_exponent', 'k_t', 'mu', 'normal_change', 'update']
     >>> law.parameters["k_t"].unit
     'N/m'
     """
