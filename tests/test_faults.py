@@ -177,6 +177,28 @@ def test_kill_harness_replacing_results_in_a_loop(tmp_path, seed):
         assert hidden(tmp_path) == []
 
 
+STARTING_COMMAND = """
+import os, signal, sys
+sys.argv = ["vibrofric", "analytic", "scene.toml"]
+import vibrofric.cli  # the command's process, still starting: main() not yet called
+os.kill(os.getpid(), signal.{signal})
+print("not ended")
+"""
+
+
+@pytest.mark.parametrize("name", ["SIGINT", "SIGTERM"])
+def test_signal_while_the_command_starts_ends_it_with_130(tmp_path, name):
+    """A signal while the command is still importing (seen under load: the random kills
+    of the next test came before main() took over and the command died of the signal,
+    exit -2) ends it the same way as later: one line, exit 130, nothing written."""
+    child = subprocess.run([sys.executable, "-c", STARTING_COMMAND.format(signal=name)],
+                           cwd=tmp_path, env=child_environment(), capture_output=True, text=True,
+                           timeout=60)
+    assert child.returncode == 130, child.stderr
+    assert child.stderr == "vibrofric: interrupted while starting; nothing was written\n"
+    assert "not ended" not in child.stdout and list(tmp_path.iterdir()) == []
+
+
 def test_cli_kill_harness_force_replacement(tmp_path):
     """The command itself, --force into results of its own, killed at random moments:
     R holds whole results (the old or the new) each time, and the next run leaves

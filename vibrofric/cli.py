@@ -1,23 +1,40 @@
 """The ``vibrofric`` command (docs/command-line.md)."""
 
-import argparse
-import atexit
-import contextlib
-import errno
-import faulthandler
-import gc
-import json
-import logging
+import os
+import signal
 import sys
-from pathlib import Path
+
+
+def _interrupted_while_starting(signum, frame):
+    """Ctrl-C or SIGTERM before the command has begun (while Python imports it or
+    reads its arguments): nothing is written yet, so it ends at once, exit 130, as
+    it would a moment later (main's interruptible() takes over from here)."""
+    os.write(2, b"vibrofric: interrupted while starting; nothing was written\n")
+    os._exit(130)
+
+
+if __name__ == "__main__" or os.path.basename(sys.argv[0]) == "vibrofric":  # the command's own process
+    for _number in (signal.SIGINT, signal.SIGTERM):
+        if signal.getsignal(_number) is not signal.SIG_IGN:  # a background job's stays ignored
+            signal.signal(_number, _interrupted_while_starting)
+
+import argparse  # noqa: E402 (after the handlers: an import can take a while under load)
+import atexit  # noqa: E402
+import contextlib  # noqa: E402
+import errno  # noqa: E402
+import faulthandler  # noqa: E402
+import gc  # noqa: E402
+import json  # noqa: E402
+import logging  # noqa: E402
+from pathlib import Path  # noqa: E402
 
 # Imported here: only what every command needs, and light (no numpy). The scene
 # module (and with it numba), numpy and matplotlib are imported by the commands
 # themselves: ``analytic`` starts its plot process before (plot_worker).
-from . import __version__, output
-from .core.errors import NumericalError, Refusal
-from .output import OutputError
-from .parallel import interruptible
+from . import __version__, output  # noqa: E402
+from .core.errors import NumericalError, Refusal  # noqa: E402
+from .output import OutputError  # noqa: E402
+from .parallel import interruptible  # noqa: E402
 
 EXIT_FAILED = 1          # something failed that is not the input's fault (a full disk, a bug)
 EXIT_BAD_INPUT = 2
@@ -424,4 +441,11 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    status = main()
+    # CPython 3.12 under ``python -m``: a KeyboardInterrupt that ended a string exec
+    # (numba and dataclasses exec generated source while the command loads) marks
+    # the process as interrupted even though main() caught it, and the process
+    # then kills itself with SIGINT at exit (status -2, not 130). Any later string
+    # exec clears that mark.
+    exec("")
+    sys.exit(status)

@@ -33,6 +33,8 @@ import traceback
 import uuid
 from pathlib import Path
 
+from .parallel import stop_if_interrupted
+
 MARKER = ".vibrofric"  # in every results directory: {"command": ...}
 
 
@@ -240,6 +242,9 @@ def staged(target: Path, command: str | None = None, claimed: bool = False):
         if command is not None:
             write_marker(stage, command)
         yield stage
+        # A Ctrl-C or SIGTERM whose KeyboardInterrupt was swallowed on the way (raised
+        # in a callback from compiled code: llvmlite's, DOLFINx's) still ends the run.
+        stop_if_interrupted()
     except BaseException as failure:
         # The failed work's frames go first: an open writer they still hold (DOLFINx's
         # VTKFile, interrupted by Ctrl-C) writes its .pvd when destroyed, and would

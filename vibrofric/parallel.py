@@ -46,6 +46,7 @@ def interruptible():
     finally:
         for number, handler in previous.items():
             signal.signal(number, handler)
+        _received = None  # what arrived was raised within, or by stop_if_interrupted
 
 
 def stop_if_interrupted() -> None:
