@@ -7,6 +7,11 @@ cache holds every built-in law's loops and the model cache (fem/model_cache.py)
 the default block: the first ``vibrofric run`` or ``analytic`` after
 ``make setup`` (which runs this) compiles nothing. A user's law still
 compiles on its first run, and says so.
+
+It says what it does in one line; the libraries' own chatter while it
+builds the FE model for the first time (FFCx compiling DOLFINx's forms with
+the C compiler) is kept off the terminal as in every ``vibrofric`` command:
+``python -m vibrofric.warm`` is ``vibrofric warm``.
 """
 
 import sys
@@ -33,7 +38,8 @@ def warm(fe: bool = True) -> None:
     from .analytic.run import run
 
     print("vibrofric: compiling the built-in friction laws' loops (" + ", ".join(BUILT_IN)
-          + ") for the analytic steppers" + (" and every FE integrator" if fe else "")
+          + ") for the analytic steppers" + (" and every FE integrator, and building the "
+                                             "default block's FE model" if fe else "")
           + ": once, at set-up", file=sys.stderr, flush=True)
     base = scene_module.from_dict(SCENE, "warm")
     with unannounced():
@@ -50,4 +56,6 @@ def warm(fe: bool = True) -> None:
 
 
 if __name__ == "__main__":
-    warm()
+    from .cli import main
+
+    sys.exit(main(["warm"]))
