@@ -88,7 +88,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     writer = None
     if vtk_dir is not None and scene.fem.output_every > 0:
-        writer = FrameWriter(model, comm, vtk_dir)
+        writer = FrameWriter(model, vtk_dir)
     def steps_done(step, steps):
         progress(step * scene.time.dt, steps * scene.time.dt)
 
