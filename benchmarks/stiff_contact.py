@@ -30,7 +30,7 @@ from mpi4py import MPI
 from vibrofric import scene as scene_module
 from vibrofric.analytic import run_coupled, summarize
 from vibrofric.analytic.closed_form import coulomb_ratio
-from vibrofric.core.machine import cpu_name
+from vibrofric.bench.machine import cpu_name
 from vibrofric.fem import run_fe
 from vibrofric.fem.model import build_model
 from vibrofric.runs import analytic_scene

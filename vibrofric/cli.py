@@ -310,7 +310,7 @@ def cmd_bench(args) -> None:
 
     target, claim = _target(args, "bench")
     plan = bench.QUICK if args.quick else bench.FULL
-    result = bench.bench(plan, progress=lambda text: print(text, file=sys.stderr))
+    result = bench.measure(plan, progress=lambda text: print(text, file=sys.stderr))
     table = bench.markdown(result)
     target = target or output.default_dir("bench")
     with output.staged(target, "bench", claimed=claim) as stage:

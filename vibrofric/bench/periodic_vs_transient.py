@@ -10,13 +10,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import scene as scene_module
-from .analytic.continuation import run_in_sequence
-from .analytic.periodic import find_orbit, load_cycle
-from .analytic.run import run
-from .core.series import averaging_steps
+from .. import scene as scene_module
+from ..analytic.continuation import run_in_sequence
+from ..analytic.periodic import find_orbit, load_cycle
+from ..analytic.run import run
+from ..core.series import averaging_steps
 
-SCENES = Path(__file__).resolve().parent.parent / "scenes"
+SCENES = Path(__file__).resolve().parent.parent / "scenes"  # package data
 FIG12 = [{"vibration.k_v": float(k_v), "vibration.theta_deg": float(theta)}
          for k_v in (2, 3, 4, 6, 20) for theta in np.linspace(0.0, 360.0, 25)]
 
