@@ -306,15 +306,13 @@ def test_the_bar_restarts_its_clock_when_the_loop_starts():
 
 
 def test_the_warm_up_keeps_the_compilers_chatter_off_the_terminal():
-    """python -m vibrofric.warm runs as ``vibrofric warm``: a library that logs at INFO
-    (FFCx's basicConfig, then setuptools lowering the root logger to INFO and logging
-    each C compiler command line, on a first FE model build) is not shown; a warning is."""
-    code = ("import logging, sys; import vibrofric.cli as cli; "
-            "cli.COMMANDS['warm'] = lambda args: ("
-            "logging.basicConfig(), logging.getLogger().setLevel(logging.INFO), "
-            "logging.info('building libffcx_forms'), logging.warning('a warning kept'), None)[-1]; "
-            "import runpy; sys.argv = ['warm']; runpy.run_module('vibrofric.warm', "
-            "run_name='__main__')")
+    """python -m vibrofric.warm's logging (warm.quiet_libraries, first thing): a library
+    that logs at INFO (FFCx's basicConfig, then setuptools lowering the root logger to
+    INFO and logging each C compiler command line, on a first FE model build) is not
+    shown; a warning is."""
+    code = ("import logging; from vibrofric.warm import quiet_libraries; quiet_libraries(); "
+            "logging.basicConfig(); logging.getLogger().setLevel(logging.INFO); "
+            "logging.info('building libffcx_forms'); logging.warning('a warning kept')")
     done = subprocess.run([sys.executable, "-c", code], env=child_environment(), cwd=ROOT,
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr

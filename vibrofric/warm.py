@@ -9,11 +9,13 @@ the default block: the first ``vibrofric run`` or ``analytic`` after
 compiles on its first run, and says so.
 
 It says what it does in one line; the libraries' own chatter while it
-builds the FE model for the first time (FFCx compiling DOLFINx's forms with
-the C compiler) is kept off the terminal as in every ``vibrofric`` command:
-``python -m vibrofric.warm`` is ``vibrofric warm``.
+builds the FE model for the first time (FFCx compiling DOLFINx's forms: its
+``logging.basicConfig()``, then setuptools lowering the root logger to INFO
+and logging every C compiler command line) is kept off the terminal, as in
+every ``vibrofric`` command (cli.py).
 """
 
+import logging
 import sys
 
 from .friction_law.contract import BUILT_IN
@@ -55,7 +57,15 @@ def warm(fe: bool = True) -> None:
                     run_fe(scene.with_values({"fem.integrator": integrator, "time.dt": dt}))
 
 
-if __name__ == "__main__":
-    from .cli import main
+def quiet_libraries() -> None:
+    """The libraries' warnings and errors on stderr, not their INFO lines (a handler
+    of its own at WARNING: FFCx's basicConfig then adds none, and the root
+    logger's level, which setuptools lowers, passes nothing more to it)."""
+    handler = logging.StreamHandler()
+    handler.setLevel(logging.WARNING)
+    logging.getLogger().addHandler(handler)
 
-    sys.exit(main(["warm"]))
+
+if __name__ == "__main__":
+    quiet_libraries()
+    warm()
