@@ -37,7 +37,7 @@ STEPPERS = {"coupled": tuple(BUILT_IN), "longitudinal": ("dahl",)}   # longitudi
 def warm(fe: bool = True) -> None:
     """Load or compile every built-in law's loops (and build the default FE model)."""
     from . import scene as scene_module
-    from .analytic.run import run
+    from .analytic.solve import solve
 
     print("vibrofric: compiling the built-in friction laws' loops (" + ", ".join(BUILT_IN)
           + ") for the analytic steppers" + (" and every FE integrator, and building the "
@@ -49,7 +49,7 @@ def warm(fe: bool = True) -> None:
             scene = base if law == "dahl" else base.with_law(law)
             for stepper, laws in STEPPERS.items():
                 if law in laws:
-                    run(scene, stepper)
+                    solve(scene, stepper)
             if fe:
                 from .fem import run_fe
 
