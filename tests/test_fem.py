@@ -20,11 +20,11 @@ from vibrofric.analytic.summary import unsettled_warning  # noqa: E402
 from vibrofric.core.errors import NumericalError, StepTooLong  # noqa: E402
 from vibrofric.core.series import RecordPlan, full_resolution_steps  # noqa: E402
 from vibrofric.fem import FEResult, run_fe  # noqa: E402
-from vibrofric.fem import explicit, model as fem_model, normal_swing, recording, run as fem_run  # noqa: E402
+from vibrofric.fem import explicit, model as fem_model, normal_swing, recording, simulate as fem_simulate  # noqa: E402
 from vibrofric.fem.paraview import FIELDS  # noqa: E402
 from vibrofric.fem.stability import max_frequency  # noqa: E402
 from vibrofric.fem.drive import drive_stiffness_action  # noqa: E402
-from vibrofric.runs import fe_beside_analytic  # noqa: E402
+from vibrofric.fe_beside_analytic import fe_beside_analytic  # noqa: E402
 from vibrofric.scene import REFUSAL_KEYS  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -307,7 +307,7 @@ def test_nan_is_raised_as_numerical_error_with_the_time(comm, monkeypatch):
         model.load[3 * model.contact_nodes[0] + 2] = np.nan
         return model
 
-    monkeypatch.setattr(fem_run, "build_model", poisoned)
+    monkeypatch.setattr(fem_simulate, "build_model", poisoned)
     with pytest.raises(NumericalError, match=r"t = 1e-06 s \(step 1.*NaN"):
         run_fe(load(LONGITUDINAL, *SHORT), comm)
 

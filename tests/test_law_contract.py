@@ -382,10 +382,10 @@ def test_rigid_contact_patch_reproduces_lumped_law(name):
     law; the same FE scene on the steel block differs by up to 15% under the old
     rule (keep)."""
     pytest.importorskip("dolfinx")
-    from vibrofric.analytic.run import run as run_analytic
+    from vibrofric.analytic.solve import solve as run_analytic
     from vibrofric.analytic.summary import summarize
     from vibrofric.fem import run_fe
-    from vibrofric.runs import analytic_scene
+    from vibrofric.fe_beside_analytic import analytic_scene
 
     scene = short_scene(name, *RIGID_FLAT_BLOCK, 'fem.integrator="reduced"', "fem.output_every=0",
                         'fem.mesh="tiny"', "time.average_cycles=8")

@@ -2,7 +2,7 @@
 
 Every module of vibrofric sits on one floor and imports only from the floors
 below it (and from inside its own package): friction_law <- core <- analytic,
-fem <- runs <- batch, bench <- api <- cli. Read from the source (ast), so a
+fem <- fe_beside_analytic <- batch, bench <- api <- cli. Read from the source (ast), so a
 lazy import inside a function counts too.
 """
 
@@ -21,7 +21,7 @@ FLOORS = (
     {"core"},
     {"analytic", "fem", "scene"},                     # the two models; the scene file
     {"grid", "output", "plots"},                      # what a run reads and writes
-    {"runs", "plot_worker", "warm"},                  # a run of each model, side by side
+    {"fe_beside_analytic", "plot_worker", "warm"},                  # a run of each model, side by side
     {"budget"},
     {"batch", "bench"},                               # studies: sweeps, speed against error
     {"api"},

@@ -30,7 +30,7 @@ STEPPERS = {"coupled": tuple(BUILT_IN), "longitudinal": ("dahl",)}   # longitudi
 def warm(fe: bool = True) -> None:
     """Load or compile every built-in law's loops (and build the default FE model)."""
     from . import scene as scene_module
-    from .analytic.run import run
+    from .analytic.solve import solve
 
     print("vibrofric: compiling the built-in friction laws' loops (" + ", ".join(BUILT_IN)
           + ") for the analytic steppers" + (" and every FE integrator" if fe else "")
@@ -41,7 +41,7 @@ def warm(fe: bool = True) -> None:
             scene = base if law == "dahl" else base.with_law(law)
             for stepper, laws in STEPPERS.items():
                 if law in laws:
-                    run(scene, stepper)
+                    solve(scene, stepper)
             if fe:
                 from .fem import run_fe
 

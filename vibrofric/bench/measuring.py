@@ -27,10 +27,10 @@ class Measurement:
 
 def measure_analytic(scene, update: str, dt: float, repeats: int = 3) -> Measurement:
     """The analytic stepper's answer and its best wall time of ``repeats`` runs."""
-    from ..analytic.run import run
+    from ..analytic.solve import solve
 
     case = scene.with_values({"contact.update": update, "time.dt": dt})
-    best = min((run(case)[1] for _ in range(repeats)), key=lambda s: s["wall_time_s"])
+    best = min((solve(case)[1] for _ in range(repeats)), key=lambda s: s["wall_time_s"])
     return Measurement(f"analytic {update}", f"dt = {dt:g}", 0, best["wall_time_s"],
                        best["F_dv_over_F_d0"])
 
@@ -49,12 +49,12 @@ class LawRow:
 def measure_law(scene, plan: Plan, label: str, law: str, parameters: dict) -> LawRow:
     """The law's row: the stepper at plan.law_dt (best of 3, after a first run that
     compiles it), its reference, the FE run."""
-    from ..analytic.run import run
+    from ..analytic.solve import solve
 
     case = scene.with_law(law, parameters)
-    reference = run(case.with_values({"time.dt": plan.analytic_reference_dt}))[1]["F_dv_over_F_d0"]
+    reference = solve(case.with_values({"time.dt": plan.analytic_reference_dt}))[1]["F_dv_over_F_d0"]
     stepped = case.with_values({"time.dt": plan.law_dt})
-    best = min((run(stepped)[1] for _ in range(3)), key=lambda s: s["wall_time_s"])
+    best = min((solve(stepped)[1] for _ in range(3)), key=lambda s: s["wall_time_s"])
     analytic = Measurement(f"analytic {label}", f"dt = {plan.law_dt:g}", 0, best["wall_time_s"],
                            best["F_dv_over_F_d0"])
     analytic.error = relative(analytic.ratio, reference)

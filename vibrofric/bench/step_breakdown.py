@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..core.friction import sliding_length
+from ..core.law_limits import sliding_length
 from ..friction_law.contract import FASTMATH
 from ..fem.contact import contact_forces
 from ..fem.explicit import central_difference, damped_displacement, external_less

@@ -29,11 +29,11 @@ friction subroutine (docs/model.md section 5). One physical idea per module:
     energy       the energy balance of an implicit run (fem.energy)
     trouble      numerical trouble: the per-step checks and their messages
     paraview     the .pvd frame series (DOLFINx VTKFile)
-    run          run_fe(scene, comm, vtk_dir, progress) -> FEResult
+    simulate     run_fe(scene, comm, vtk_dir, progress) -> FEResult: one FE run
 
 Only dolfinx_adapter imports DOLFINx, UFL and petsc4py.
 """
 
-from .run import FEResult, run_fe
+from .simulate import FEResult, run_fe
 
 __all__ = ["FEResult", "run_fe"]

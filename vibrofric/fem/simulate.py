@@ -1,4 +1,4 @@
-"""One FE run of a scene: ``run_fe(scene, comm=None, vtk_dir=None) -> FEResult``."""
+"""Simulate a scene with the FE model: ``run_fe(scene, comm=None, vtk_dir=None) -> FEResult``."""
 
 import math
 import time
