@@ -76,7 +76,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     integrator = prepare(scene, model)
     setup_time = time.perf_counter() - start
 
-    writer = _frame_writer(scene, model, comm, vtk_dir)
+    writer = _frame_writer(scene, model, vtk_dir)
     try:
         run = _integrate(scene, integrator, writer, progress)
     finally:
@@ -90,11 +90,11 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     return FEResult(series=series, info=info, fields=last_fields(model, run.state))
 
 
-def _frame_writer(scene, model, comm, vtk_dir):
+def _frame_writer(scene, model, vtk_dir):
     """The ParaView frame series the run writes, or None (no vtk_dir, or no frames asked for)."""
     if vtk_dir is None or scene.fem.output_every <= 0:
         return None
-    return FrameWriter(model, comm, vtk_dir)
+    return FrameWriter(model, vtk_dir)
 
 
 def _integrate(scene, integrator, writer, progress):
