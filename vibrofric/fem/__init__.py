@@ -28,7 +28,7 @@ friction subroutine (docs/model.md section 5). One physical idea per module:
     steady       early steady state: stop once the cycle-averaged F_d has settled
     energy       the energy balance of an implicit run (fem.energy)
     trouble      numerical trouble: the per-step checks and their messages
-    paraview     the .pvd frame series (DOLFINx VTKFile)
+    paraview     the .pvd frame series (meshio, from the model's arrays)
     simulate     run_fe(scene, comm, vtk_dir, progress) -> FEResult: one FE run
 
 Only dolfinx_adapter imports DOLFINx, UFL and petsc4py.
