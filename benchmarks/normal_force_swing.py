@@ -37,7 +37,7 @@ class NodeSampler:
 
     samples = []
 
-    def __init__(self, model, comm, vtk_dir):
+    def __init__(self, model, vtk_dir):
         self.model = model
         self.path = Path(vtk_dir) / "block.pvd"
         self.frames = 0

@@ -4,14 +4,14 @@ import math
 import time
 from dataclasses import dataclass, field
 
-from ..core.series import (RecordPlan, TimeSeries, averaging_steps,
-                               full_resolution_steps)
+from ..core.series import RecordPlan, TimeSeries, averaging_steps, full_resolution_steps
 from ..meshes import level_counts
 from . import integrators
 from .model import build_model
 from .normal_swing import judge
 from .paraview import FrameWriter, node_fields
 from .recording import extra_columns
+
 
 @dataclass
 class FEResult:
@@ -23,7 +23,7 @@ class FEResult:
             with fem.energy also extra[recording.ENERGY]; the rows the analytic
             stepper keeps up to the step the run ended at (early steady
             state: steady.py), so summarize() applies as is
-    info    what the run was and cost (see run_fe)
+    info    what the run was and cost (run_info)
     fields  the node fields at the last step, as in the ParaView frames
             (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3)
             and "contact_nodes" (indices)
@@ -45,6 +45,16 @@ def _communicator(comm):
     return comm
 
 
+@dataclass(frozen=True)
+class Clock:
+    """A run's wall times, s: the set-up (the model, the integrator's factorization or
+    reduction), the time loop alone, and the whole run."""
+
+    setup_s: float
+    loop_s: float
+    wall_s: float
+
+
 def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     """Run the scene's finite-element model (docs/model.md section 5).
 
@@ -56,27 +66,8 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
 
     Raises core.errors.Refusal for a scene the model cannot run, before
     the first step, and NumericalError for a run that went wrong (NaN, a
-    diverging asperity, the normal force blowing up or ringing).
-
-    info keys: mesh, integrator (the one that ran), integrator_requested
-    (fem.integrator), integrator_choice (for "auto": what it picked and why;
-    else None), nodes, dofs, elements, contact_nodes, attach, attach_nodes,
-    density (kg/m^3), block_mass (kg), top_pressure (Pa), penalty (N/m),
-    damping (beta, s), omega_max (rad/s), dt, dt_stable (s; the explicit
-    integrator's limit), steps (run), steps_planned, stopped_early,
-    stop_time_s (None if it ran to time.T), saving (the fraction of the
-    planned steps not run), steady_tolerance, steady_cycles, steady_change
-    (steady.py), F_n_static (N, the preload's reaction), F_n_min / F_n_max
-    (every step), F_n_min_after_t_on / F_n_max_after_t_on (every step from
-    vibration.t_on; None without vibration), F_n_min_window / F_n_max_window
-    (the averaging window), F_n_forced_fraction (the share of the window's
-    swing at harmonics of f), F_n_kind ("steady", "rocking" or "transient":
-    normal_swing.py; a ringing run raises), F_n_min_window_end / F_n_max_window_end /
-    F_n_forced_fraction_end (the window's end, as normal_swing.judge sees it),
-    F_n_free_frequency_hz (the largest line of the window's swing off the
-    harmonics of f; None where steady), frames, vtk (the .pvd path or None), setup_time_s,
-    loop_time_s, wall_time_s; and what the integrator's set-up reports
-    (implicit.py ImplicitRun.info, reduction.py ReducedRun.info).
+    diverging asperity, the normal force blowing up or ringing). The result's
+    info is run_info's.
     """
     start = time.perf_counter()
     comm = _communicator(comm)
@@ -85,26 +76,77 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     integrator = prepare(scene, model)
     setup_time = time.perf_counter() - start
 
-    plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
-    writer = None
-    if vtk_dir is not None and scene.fem.output_every > 0:
-        writer = FrameWriter(model, vtk_dir)
-    def steps_done(step, steps):
-        progress(step * scene.time.dt, steps * scene.time.dt)
-
+    writer = _frame_writer(scene, model, vtk_dir)
     try:
-        run = integrator.integrate(plan, frame=writer, every=scene.fem.output_every,
-                                   progress=None if progress is None else steps_done)
+        run = _integrate(scene, integrator, writer, progress)
     finally:
         if writer is not None:
             writer.close()
     series = TimeSeries.from_table(run.table, extra_columns(scene.fem.energy))
+    swing = judge(series.extra["F_n"][-averaging_steps(scene):], scene.time.dt,
+                  scene.vibration.f, scene.contact.F_N, model.beta)
+    clock = Clock(setup_time, run.stats["loop_time_s"], time.perf_counter() - start)
+    info = run_info(scene, model, integrator, run.stats, swing, writer, clock)
+    return FEResult(series=series, info=info, fields=last_fields(model, run.state))
 
-    window = series.extra["F_n"][-averaging_steps(scene):]
-    swing = judge(window, scene.time.dt, scene.vibration.f, scene.contact.F_N, model.beta)
 
+def _frame_writer(scene, model, vtk_dir):
+    """The ParaView frame series the run writes, or None (no vtk_dir, or no frames asked for)."""
+    if vtk_dir is None or scene.fem.output_every <= 0:
+        return None
+    return FrameWriter(model, vtk_dir)
+
+
+def _integrate(scene, integrator, writer, progress):
+    """The integrator's time loop over the steps the analytic stepper's RecordPlan keeps,
+    ``progress`` told in simulated seconds."""
+    plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
+
+    def steps_done(step, steps):
+        progress(step * scene.time.dt, steps * scene.time.dt)
+
+    return integrator.integrate(plan, frame=writer, every=scene.fem.output_every,
+                                progress=None if progress is None else steps_done)
+
+
+def run_info(scene, model, integrator, stats: dict, swing, writer, clock: Clock) -> dict:
+    """What the run was and cost (FEResult.info), in this order:
+
+    model_info's keys; the steps (steps run, steps_planned, stopped_early,
+    stop_time_s: None if it ran to time.T, saving: the fraction of the planned
+    steps not run, steady_tolerance, steady_cycles, steady_change: steady.py);
+    normal_force_info's keys; frames and vtk (the .pvd path or None);
+    setup_time_s, loop_time_s, wall_time_s; what the integrator's set-up reports
+    (implicit.py ImplicitRun.info, reduction.py ReducedRun.info) and its
+    iterations_* statistics.
+    """
+    return {
+        **model_info(scene, model, integrator),
+        **{key: stats[key] for key in STEP_KEYS},
+        **normal_force_info(scene, model, stats, swing),
+        "frames": writer.frames if writer is not None else 0,
+        "vtk": str(writer.path) if writer is not None else None,
+        "setup_time_s": clock.setup_s,
+        "loop_time_s": clock.loop_s,
+        "wall_time_s": clock.wall_s,
+        **integrator.info,
+        **{key: value for key, value in stats.items() if key.startswith("iterations_")},
+    }
+
+
+# The integrators' statistics of the steps run (time_loop, steady.py), as they report them.
+STEP_KEYS = ("steps", "steps_planned", "stopped_early", "stop_time_s", "saving",
+             "steady_tolerance", "steady_cycles", "steady_change")
+
+
+def model_info(scene, model, integrator) -> dict:
+    """The model that ran: mesh, integrator (the one that ran), integrator_requested
+    (fem.integrator), integrator_choice (for "auto": what it picked and why; else None),
+    nodes, dofs, elements, contact_nodes, attach, attach_nodes, density (kg/m^3),
+    block_mass (kg), top_pressure (Pa), penalty (N/m), damping (beta, s), omega_max
+    (rad/s), dt, dt_stable (s; the explicit integrator's limit)."""
     disc = model.disc
-    info = {
+    return {
         "mesh": scene.fem.mesh,
         "integrator": integrator.name,
         "integrator_requested": scene.fem.integrator,
@@ -123,14 +165,25 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
         "omega_max": model.omega_max,
         "dt": scene.time.dt,
         "dt_stable": model.dt_stable,
-        **{key: run.stats[key] for key in ("steps", "steps_planned", "stopped_early", "stop_time_s",
-                                           "saving", "steady_tolerance", "steady_cycles",
-                                           "steady_change")},
+    }
+
+
+def normal_force_info(scene, model, stats: dict, swing) -> dict:
+    """The summed normal force: F_n_static (N, the preload's reaction), F_n_min /
+    F_n_max (every step), F_n_min_after_t_on / F_n_max_after_t_on (every step from
+    vibration.t_on; None without vibration), and the averaging window's as
+    normal_swing.judge found it: F_n_kind ("steady", "rocking" or "transient"; a
+    ringing run raises), F_n_min_window / F_n_max_window, F_n_forced_fraction (the
+    share of the window's swing at harmonics of f), F_n_min_window_end /
+    F_n_max_window_end / F_n_forced_fraction_end (the window's end),
+    F_n_free_frequency_hz (the largest line of the window's swing off the harmonics
+    of f; None where steady)."""
+    return {
         "F_n_static": float(model.normal0.sum()),
-        "F_n_min": run.stats["F_n_min"],
-        "F_n_max": run.stats["F_n_max"],
-        "F_n_min_after_t_on": run.stats["F_n_min_after_t_on"] if scene.vibrated else None,
-        "F_n_max_after_t_on": run.stats["F_n_max_after_t_on"] if scene.vibrated else None,
+        "F_n_min": stats["F_n_min"],
+        "F_n_max": stats["F_n_max"],
+        "F_n_min_after_t_on": stats["F_n_min_after_t_on"] if scene.vibrated else None,
+        "F_n_max_after_t_on": stats["F_n_max_after_t_on"] if scene.vibrated else None,
         "F_n_kind": swing.kind,
         "F_n_min_window": swing.low,
         "F_n_max_window": swing.high,
@@ -139,15 +192,13 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
         "F_n_max_window_end": swing.end_high,
         "F_n_forced_fraction_end": swing.end_forced,
         "F_n_free_frequency_hz": swing.free_frequency_hz,
-        "frames": writer.frames if writer is not None else 0,
-        "vtk": str(writer.path) if writer is not None else None,
-        "setup_time_s": setup_time,
-        "loop_time_s": run.stats["loop_time_s"],
-        "wall_time_s": time.perf_counter() - start,
-        **integrator.info,
-        **{key: value for key, value in run.stats.items() if key.startswith("iterations_")},
     }
-    fields = node_fields(model, run.state)
-    fields["coordinates"] = disc.coordinates
+
+
+def last_fields(model, state) -> dict:
+    """The node fields at the run's last step, as in the ParaView frames (paraview.FIELDS),
+    with the nodes' "coordinates" and the "contact_nodes" indices."""
+    fields = node_fields(model, state)
+    fields["coordinates"] = model.disc.coordinates
     fields["contact_nodes"] = model.contact_nodes
-    return FEResult(series=series, info=info, fields=fields)
+    return fields

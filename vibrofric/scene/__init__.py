@@ -5,6 +5,13 @@ default (the paper's longitudinal case, docs/model.md section 4), so a file
 holds only what differs; ``--set section.key=value`` overrides any key. Every
 value is checked before any work: a bad one raises ``SceneError`` naming it.
 
+    >>> from vibrofric import scene
+    >>> s = scene.from_dict({"vibration": {"k_v": 2}})   # every other key its default
+    >>> s.vibration.k_v, s.v_a       # the base's velocity amplitude k_v v_d (eq 27), m/s
+    (2.0, 0.001)
+    >>> s.with_values({"drive.v_d": 1e-3}).v_a
+    0.002
+
 The package, by idea:
 
     schema      the sections and their defaults, the Scene and what derives from it,

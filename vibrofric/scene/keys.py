@@ -58,7 +58,11 @@ def check_type(key: str, value, annotation):
 
 
 def parse_value(text: str):
-    """A ``--set`` value: TOML syntax (``2``, ``1e-6``, ``[1, 2, 3]``, ``"dahl"``), else a bare string."""
+    """A ``--set`` value: TOML syntax (``2``, ``1e-6``, ``[1, 2, 3]``, ``"dahl"``), else a bare string.
+
+    >>> parse_value("1e-6"), parse_value("[0.03, 0.04, 0.053]"), parse_value("lugre")
+    (1e-06, [0.03, 0.04, 0.053], 'lugre')
+    """
     try:
         return tomllib.loads(f"v = {text}")["v"]
     except tomllib.TOMLDecodeError:
@@ -66,7 +70,15 @@ def parse_value(text: str):
 
 
 def parse_assignment(text: str):
-    """``section.key=value`` -> (key, value)."""
+    """``section.key=value`` -> (key, value).
+
+    >>> parse_assignment("vibration.k_v = 20")
+    ('vibration.k_v', 20)
+    >>> parse_assignment("vibration.kv=20")
+    Traceback (most recent call last):
+    ...
+    vibrofric.scene.SceneError: vibration.kv: unknown key in [vibration]; known: f, k_v, theta_deg, t_on
+    """
     key, sep, value = text.partition("=")
     if not sep:
         raise SceneError(text, "expected section.key=value")
