@@ -225,19 +225,25 @@ def write_fe_run(scene: "Scene", stage: Path, progress: Callable[[float, float],
     ``vibrofric run`` writes it (its files, summary.json, plots and the block's
     picture). Returns (document, FEBesideAnalytic): document is the command's
     JSON, with "out" where ``out`` is given."""
-    from . import output, plots
-    from .picture import block_picture
-    from .fe_beside_analytic import fe_beside_analytic
+    from contextlib import ExitStack
 
-    done = fe_beside_analytic(scene, stage, progress=progress, full_series=full_series)
-    document = {**done.document, "out": out} if out is not None else done.document
-    output.write_summary(stage, {**document, "fe_info": done.fe_info})
-    runs = {"FE": done.fe.series, "analytic": done.analytic_series}
-    plots.drive_force_history(runs, scene, stage / "drive_force.png")
-    plots.friction_last_cycles(runs, scene, stage / "friction_last_cycles.png")
-    plots.normal_force_history(done.fe.series, scene, stage / "normal_force.png")
-    if done.fe_info["frames"]:
-        block_picture(stage / "paraview" / "block.pvd", stage / "block.png")
+    from . import output
+    from .fe_beside_analytic import fe_beside_analytic
+    from .plot_worker import PlotProcess, picture_job, plots_job
+
+    with ExitStack() as children:
+        # started first: they import matplotlib and pyvista while the FE run goes on
+        plotter = children.enter_context(PlotProcess("fe"))
+        painter = (children.enter_context(PlotProcess("picture"))
+                   if scene.fem.output_every > 0 else None)
+        done = fe_beside_analytic(scene, stage, progress=progress, full_series=full_series)
+        document = {**done.document, "out": out} if out is not None else done.document
+        runs = {"FE": done.fe.series, "analytic": done.analytic_series}
+        children.enter_context(plotter.drawing(plots_job(runs, scene, stage, fe=done.fe.series)))
+        if done.fe_info["frames"]:
+            children.enter_context(painter.drawing(picture_job(stage / "paraview" / "block.pvd",
+                                                               stage / "block.png")))
+        output.write_summary(stage, {**document, "fe_info": done.fe_info})
     return document, done
 
 
