@@ -119,6 +119,14 @@ print(json.dumps({"file": vf.__file__, "names": vf.scene_names(),
     assert 0.0 < answer["ratio"] < 1.0 and answer["rows"] > 100
 
 
+def test_the_command_runs_a_shipped_scene_by_name(installed, tmp_path):
+    python, command, work, env = installed
+    out = tmp_path / "analytic"
+    document = json.loads(run([str(command), "analytic", "transverse", "--set", "time.T=0.2",
+                               "--json", "--out", str(out)], cwd=work, env=env))
+    assert 0.0 < document["F_dv_over_F_d0"] < 1.0 and (out / "summary.json").exists()
+
+
 def test_the_bench_finds_its_scenes_in_the_installed_package(installed):
     """vibrofric bench's scenes (plans.SCENE, the periodic rows' SCENES) are package data;
     the example law, which lives in the repository's examples/, is left out."""
