@@ -6,12 +6,13 @@ from dataclasses import dataclass, field
 
 from ..core.series import (RecordPlan, TimeSeries, averaging_steps,
                                full_resolution_steps)
+from ..core.shooting import periodic_block
 from ..meshes import level_counts
-from . import integrators
+from . import integrators, periodic
 from .model import build_model
 from .normal_swing import judge
 from .paraview import FrameWriter, node_fields
-from .recording import extra_columns
+from .recording import COLUMNS, extra_columns
 
 @dataclass
 class FEResult:
@@ -27,11 +28,14 @@ class FEResult:
     fields  the node fields at the last step, as in the ParaView frames
             (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3)
             and "contact_nodes" (indices)
+    orbit   with time.method "periodic" or "auto": the shooting's core.shooting.Orbit
+            (whether or not it answered: info["periodic"]["method"] says), else None
     """
 
     series: TimeSeries
     info: dict = field(default_factory=dict)
     fields: dict = field(default_factory=dict, repr=False)
+    orbit: object = None
 
 
 def _communicator(comm):
@@ -45,14 +49,22 @@ def _communicator(comm):
     return comm
 
 
-def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
+def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResult:
     """Run the scene's finite-element model (docs/model.md section 5).
 
     comm     an MPI communicator of one process (default MPI.COMM_SELF)
     vtk_dir  if given and fem.output_every > 0: write vtk_dir/block.pvd, a frame
-             every fem.output_every steps (paraview.py)
+             every fem.output_every steps (paraview.py); a periodic answer writes
+             periodic.FRAMES_PER_CYCLE + 1 frames of its steady cycle instead
     progress if given, called as progress(t_done_s, t_total_s) every few
              thousand steps of the time loop (simulated seconds)
+    start    with time.method "periodic" or "auto": a neighbouring point's orbit
+             state (FEResult.orbit.z) to shoot from (sweeps: continuation)
+
+    With time.method "periodic" or "auto" (and vibration) the steady cycle is
+    shot for first (periodic.py); where it does not converge or is not stable
+    the scene is stepped through T as with "transient". info["periodic"] says
+    which answered (core.shooting.periodic_block).
 
     Raises core.errors.Refusal for a scene the model cannot run, before
     the first step, and NumericalError for a run that went wrong (NaN, a
@@ -75,15 +87,28 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     F_n_forced_fraction_end (the window's end, as normal_swing.judge sees it),
     F_n_free_frequency_hz (the largest line of the window's swing off the
     harmonics of f; None where steady), frames, vtk (the .pvd path or None), setup_time_s,
-    loop_time_s, wall_time_s; and what the integrator's set-up reports
-    (implicit.py ImplicitRun.info, reduction.py ReducedRun.info).
+    loop_time_s, wall_time_s; periodic (with time.method "periodic" or "auto"); and
+    what the integrator's set-up reports (implicit.py ImplicitRun.info,
+    reduction.py ReducedRun.info).
     """
-    start = time.perf_counter()
+    begin = time.perf_counter()
     comm = _communicator(comm)
     prepare = integrators.select(scene)
     model = build_model(scene, comm)
-    integrator = prepare(scene, model)
-    setup_time = time.perf_counter() - start
+    orbit = None
+    if scene.time.method != "transient" and scene.vibrated:
+        shot_scene, steps = periodic.periodic_scene(scene)
+        integrator = prepare(shot_scene, model)
+        setup_time = time.perf_counter() - begin
+        orbit, phi = periodic.find_orbit(integrator, model, steps, start)
+        if orbit.converged and orbit.stable:
+            return _periodic_result(scene, shot_scene, model, integrator, orbit, phi, comm,
+                                    vtk_dir, begin, setup_time)
+        if shot_scene is not scene:
+            integrator = prepare(scene, model)
+    else:
+        integrator = prepare(scene, model)
+    setup_time = time.perf_counter() - begin
 
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     writer = None
@@ -99,12 +124,56 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
         if writer is not None:
             writer.close()
     series = TimeSeries.from_table(run.table, extra_columns(scene.fem.energy))
+    info = _info(scene, model, integrator, series, run.stats, writer, setup_time, begin)
+    if orbit is not None:
+        info["periodic"] = periodic_block(orbit, scene)
+    return FEResult(series=series, info=info, fields=_fields(model, run.state), orbit=orbit)
 
+
+def _periodic_result(scene, shot_scene, model, integrator, orbit, phi, comm, vtk_dir, begin,
+                     setup_time) -> FEResult:
+    """The FEResult of a run answered by its steady cycle: the series the cycle repeated
+    over the last two averaging windows (at least PLOT_CYCLES cycles) ending at
+    time.T, the ParaView frames of one cycle, the fields at its end."""
+    cycles = max(1, math.ceil(full_resolution_steps(shot_scene) / orbit.steps))
+    table = periodic.steady_table(orbit, shot_scene, cycles)
+    series = TimeSeries.from_table(table, extra_columns(scene.fem.energy))
+    writer = None
+    if vtk_dir is not None and scene.fem.output_every > 0:
+        writer = FrameWriter(model, comm, vtk_dir)
+    try:
+        last = periodic.cycle_frames(phi, orbit, writer)
+    finally:
+        if writer is not None:
+            writer.close()
+    f_n = orbit.cycle[:, COLUMNS.index("F_n")]
+    steps = orbit.cycles_integrated * orbit.steps
+    stats = {"steps": steps, "steps_planned": scene.steps, "stopped_early": False,
+             "stop_time_s": None, "saving": 1.0 - steps / scene.steps,
+             "steady_tolerance": scene.time.steady_tolerance,
+             "steady_cycles": scene.time.steady_cycles or scene.averaged_cycles,
+             "steady_change": None,
+             "F_n_min": float(f_n.min()), "F_n_max": float(f_n.max()),
+             "F_n_min_after_t_on": float(f_n.min()), "F_n_max_after_t_on": float(f_n.max()),
+             "loop_time_s": orbit.solver_time_s}
+    info = _info(shot_scene, model, integrator, series, stats, writer, setup_time, begin)
+    info["periodic"] = periodic_block(orbit, scene)
+    return FEResult(series=series, info=info, fields=_fields(model, last), orbit=orbit)
+
+
+def _fields(model, state) -> dict:
+    fields = node_fields(model, state)
+    fields["coordinates"] = model.disc.coordinates
+    fields["contact_nodes"] = model.contact_nodes
+    return fields
+
+
+def _info(scene, model, integrator, series, stats, writer, setup_time, begin) -> dict:
+    """FEResult.info (see run_fe) of a run that kept ``series``, its loop's ``stats``."""
     window = series.extra["F_n"][-averaging_steps(scene):]
     swing = judge(window, scene.time.dt, scene.vibration.f, scene.contact.F_N, model.beta)
-
     disc = model.disc
-    info = {
+    return {
         "mesh": scene.fem.mesh,
         "integrator": integrator.name,
         "integrator_requested": scene.fem.integrator,
@@ -123,14 +192,14 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
         "omega_max": model.omega_max,
         "dt": scene.time.dt,
         "dt_stable": model.dt_stable,
-        **{key: run.stats[key] for key in ("steps", "steps_planned", "stopped_early", "stop_time_s",
-                                           "saving", "steady_tolerance", "steady_cycles",
-                                           "steady_change")},
+        **{key: stats[key] for key in ("steps", "steps_planned", "stopped_early", "stop_time_s",
+                                       "saving", "steady_tolerance", "steady_cycles",
+                                       "steady_change")},
         "F_n_static": float(model.normal0.sum()),
-        "F_n_min": run.stats["F_n_min"],
-        "F_n_max": run.stats["F_n_max"],
-        "F_n_min_after_t_on": run.stats["F_n_min_after_t_on"] if scene.vibrated else None,
-        "F_n_max_after_t_on": run.stats["F_n_max_after_t_on"] if scene.vibrated else None,
+        "F_n_min": stats["F_n_min"],
+        "F_n_max": stats["F_n_max"],
+        "F_n_min_after_t_on": stats["F_n_min_after_t_on"] if scene.vibrated else None,
+        "F_n_max_after_t_on": stats["F_n_max_after_t_on"] if scene.vibrated else None,
         "F_n_kind": swing.kind,
         "F_n_min_window": swing.low,
         "F_n_max_window": swing.high,
@@ -142,12 +211,8 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
         "frames": writer.frames if writer is not None else 0,
         "vtk": str(writer.path) if writer is not None else None,
         "setup_time_s": setup_time,
-        "loop_time_s": run.stats["loop_time_s"],
-        "wall_time_s": time.perf_counter() - start,
+        "loop_time_s": stats["loop_time_s"],
+        "wall_time_s": time.perf_counter() - begin,
         **integrator.info,
-        **{key: value for key, value in run.stats.items() if key.startswith("iterations_")},
+        **{key: value for key, value in stats.items() if key.startswith("iterations_")},
     }
-    fields = node_fields(model, run.state)
-    fields["coordinates"] = disc.coordinates
-    fields["contact_nodes"] = model.contact_nodes
-    return FEResult(series=series, info=info, fields=fields)
