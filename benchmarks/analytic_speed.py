@@ -34,7 +34,7 @@ import scipy
 from scipy.integrate import solve_ivp
 
 from vibrofric import scene as scene_module
-from vibrofric.analytic.run import STEPPERS, run
+from vibrofric.analytic.solve import STEPPERS, solve
 from vibrofric.analytic.summary import summarize
 from vibrofric.batch import sweep
 
@@ -216,12 +216,12 @@ def reference(scene, plan: Plan):
     coupled stepper at the reference step, and solve_ivp at a tight tolerance.
     """
     dt = plan.reference_dt
-    value = run(scene.with_values({"time.dt": dt}), "longitudinal")[1]["F_dv_over_F_d0"]
+    value = solve(scene.with_values({"time.dt": dt}), "longitudinal")[1]["F_dv_over_F_d0"]
     checks = [
         (f"1D stepper, exact, dt = {2 * dt:g}",
-         run(scene.with_values({"time.dt": 2 * dt}), "longitudinal")[1]["F_dv_over_F_d0"]),
+         solve(scene.with_values({"time.dt": 2 * dt}), "longitudinal")[1]["F_dv_over_F_d0"]),
         (f"coupled stepper, exact, dt = {dt:g}",
-         run(scene.with_values({"time.dt": dt}), "coupled")[1]["F_dv_over_F_d0"]),
+         solve(scene.with_values({"time.dt": dt}), "coupled")[1]["F_dv_over_F_d0"]),
     ]
     method, rtol = plan.tight
     tight, seconds = solve_ivp_ratio(scene, method, rtol)

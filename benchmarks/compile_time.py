@@ -78,9 +78,9 @@ def run_case(case: str, law_file: str) -> dict:
     try:
         before = time.perf_counter()
         if integrator in ("coupled", "longitudinal"):
-            from vibrofric.analytic.run import run
+            from vibrofric.analytic.solve import solve
 
-            run(scene, integrator)
+            solve(scene, integrator)
         else:
             from vibrofric.fem import run_fe
 

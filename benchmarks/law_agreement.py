@@ -32,11 +32,11 @@ sys.path.insert(0, str(ROOT))
 from mpi4py import MPI  # noqa: E402,F401  (before DOLFINx: the PyPI stack's libmpi)
 
 from vibrofric import scene as scene_module  # noqa: E402
-from vibrofric.analytic.run import run as run_analytic  # noqa: E402
+from vibrofric.analytic.solve import solve as run_analytic  # noqa: E402
 from vibrofric.analytic.summary import summarize  # noqa: E402
 from vibrofric.core.errors import NumericalError  # noqa: E402
 from vibrofric.fem import run_fe  # noqa: E402
-from vibrofric.runs import analytic_scene  # noqa: E402
+from vibrofric.fe_beside_analytic import analytic_scene  # noqa: E402
 
 LAWS_DIR = ROOT / "examples" / "laws"
 LAWS = [  # (label, contact.law, its parameters)

@@ -22,7 +22,7 @@ sys.path.insert(0, str(ROOT))
 from mpi4py import MPI  # noqa: E402,F401  (before DOLFINx)
 
 from vibrofric import scene as scene_module  # noqa: E402
-from vibrofric.fem import run as fem_run  # noqa: E402
+from vibrofric.fem import simulate as fem_simulate  # noqa: E402
 
 SAMPLE = 5            # steps between samples (50 a cycle at 4 kHz and 1e-6 s)
 BODIES = {
@@ -37,7 +37,7 @@ class NodeSampler:
 
     samples = []
 
-    def __init__(self, model, comm, vtk_dir):
+    def __init__(self, model, vtk_dir):
         self.model = model
         self.path = Path(vtk_dir) / "block.pvd"
         self.frames = 0
@@ -56,8 +56,8 @@ def swing(body: str, **more):
     scene = scene_module.load(ROOT / "scenes" / "longitudinal.toml").with_values(
         {"time.T": 0.3, "fem.integrator": "reduced", "fem.output_every": SAMPLE,
          **BODIES[body], **more})
-    fem_run.FrameWriter = NodeSampler
-    fem_run.run_fe(scene, vtk_dir=Path("/nonexistent"))
+    fem_simulate.FrameWriter = NodeSampler
+    fem_simulate.run_fe(scene, vtk_dir=Path("/nonexistent"))
     window = 4.0 / scene.vibration.f
     t = np.array([s[0] for s in NodeSampler.samples])
     keep = t >= t[-1] - window

@@ -4,7 +4,7 @@ transient stepped until settled: the periodic rows of ``vibrofric bench``, alone
     PYTHONPATH=. python benchmarks/periodic_vs_transient.py
 """
 
-from vibrofric import periodic_bench
+from vibrofric.bench import periodic_vs_transient
 
 if __name__ == "__main__":
-    print("\n".join(periodic_bench.markdown(periodic_bench.measure())))
+    print("\n".join(periodic_vs_transient.markdown(periodic_vs_transient.measure())))

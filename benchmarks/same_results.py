@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from vibrofric import scene as scene_module
-from vibrofric.analytic.run import run
+from vibrofric.analytic.solve import solve
 from vibrofric.fem import run_fe
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
@@ -49,7 +49,7 @@ def series() -> dict:
     """Every time series, by name: ``<scene>/analytic`` and ``<scene>/<integrator>``."""
     out = {}
     for name, scene in scenes():
-        out[f"{name}/analytic"] = run(scene)[0].table()
+        out[f"{name}/analytic"] = solve(scene)[0].table()
         for integrator, dt in INTEGRATOR_STEPS.items():
             fe_scene = scene.with_values({**FE_SETTINGS, "fem.integrator": integrator,
                                           "time.dt": dt})

@@ -8,21 +8,21 @@ import pytest
 from vibrofric.analytic import run_coupled
 from vibrofric.core.errors import NumericalError
 from vibrofric.analytic.closed_form import coulomb_ratio, longitudinal_ratio
-from vibrofric.analytic.run import run
+from vibrofric.analytic.solve import solve
 from vibrofric.batch import sweep
 
 FIG12_KV = (2, 3, 4, 6, 20)
 
 
 def ratio(scene):
-    return run(scene)[1]["F_dv_over_F_d0"]
+    return solve(scene)[1]["F_dv_over_F_d0"]
 
 
 @pytest.mark.parametrize("k_v", [2.0, 6.0, 20.0])
 def test_coupled_at_theta_zero_agrees_with_the_1d_longitudinal_model(load_scene, k_v):
     scene = load_scene("longitudinal", vibration__k_v=k_v)
-    coupled = run(scene, "coupled")[1]["F_dv_over_F_d0"]
-    one_d = run(scene, "longitudinal")[1]["F_dv_over_F_d0"]
+    coupled = solve(scene, "coupled")[1]["F_dv_over_F_d0"]
+    one_d = solve(scene, "longitudinal")[1]["F_dv_over_F_d0"]
     assert abs(coupled - one_d) < 0.005  # the issue's bound; measured ~1e-7
 
 
@@ -41,7 +41,7 @@ def test_coupled_stepper_converges_in_dt(load_scene):
 def test_breakaway_times_and_forces_of_the_paper(load_scene):
     for name, t_paper in (("longitudinal", 0.12), ("transverse", 0.11)):
         scene = load_scene(name, vibration__k_v=0.0)
-        series, summary = run(scene)
+        series, summary = solve(scene)
         # the paper reads its breakaway off a plot, to about 0.01 s
         assert summary["breakaway_time_s"] == pytest.approx(t_paper, abs=0.01)
         # the spring alone takes F_c / (k_d v_d) to reach F_c; presliding of a
@@ -140,17 +140,17 @@ def test_paper_update_past_its_stable_step_is_refused(load_scene):
 
 def test_wall_time_is_the_stepping_alone(load_scene, monkeypatch):
     """The compiled loop is loaded (numba's cache) before the clock starts."""
-    from vibrofric.analytic import run as run_module
+    from vibrofric.analytic import solve as solve_module
 
     scene = load_scene("longitudinal", time__T=0.2)
     events = []
-    load, step = run_module.LOADERS["coupled"], run_module.STEPPERS["coupled"]
-    monkeypatch.setitem(run_module.LOADERS, "coupled",
+    load, step = solve_module.LOADERS["coupled"], solve_module.STEPPERS["coupled"]
+    monkeypatch.setitem(solve_module.LOADERS, "coupled",
                         lambda s: (events.append("load"), load(s))[1])
-    monkeypatch.setitem(run_module.STEPPERS, "coupled",
+    monkeypatch.setitem(solve_module.STEPPERS, "coupled",
                         lambda s: (events.append("step"), step(s))[1])
     clock = iter([10.0, 10.25])
-    monkeypatch.setattr(run_module, "perf_counter", lambda: (events.append("clock"), next(clock))[1])
-    series, summary = run(scene)
+    monkeypatch.setattr(solve_module, "perf_counter", lambda: (events.append("clock"), next(clock))[1])
+    series, summary = solve(scene)
     assert events == ["load", "clock", "step", "clock"]
     assert summary["wall_time_s"] == 0.25 and series.t.size > 0

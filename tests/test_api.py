@@ -2,6 +2,7 @@
 
 import ast
 import doctest
+import importlib
 import json
 import subprocess
 import sys
@@ -23,6 +24,12 @@ def test_docstring_examples_run():
     """Every example in the API's docstrings gives what it shows (the FE one is skipped: slow)."""
     outcome = doctest.testmod(api, optionflags=doctest.ELLIPSIS)
     assert outcome.attempted >= 10 and outcome.failed == 0
+
+
+@pytest.mark.parametrize("module", ["vibrofric.scene", "vibrofric.scene.keys", "vibrofric.bench.fits"])
+def test_other_public_modules_docstring_examples_run(module):
+    outcome = doctest.testmod(importlib.import_module(module), optionflags=doctest.ELLIPSIS)
+    assert outcome.attempted >= 2 and outcome.failed == 0
 
 
 def test_import_is_light():

@@ -5,6 +5,7 @@ import math
 import pytest
 
 from vibrofric import bench
+from vibrofric.bench import fits
 from vibrofric.cli import main
 
 pytest.importorskip("dolfinx")
@@ -30,12 +31,12 @@ SMALL = bench.Plan(
 
 def test_fitted_exponent_recovers_a_power_law():
     x = [10.0, 100.0, 1000.0]
-    assert bench.fitted_exponent(x, [3.0 * v ** 1.5 for v in x]) == pytest.approx(1.5, abs=1e-12)
+    assert fits.fitted_exponent(x, [3.0 * v ** 1.5 for v in x]) == pytest.approx(1.5, abs=1e-12)
 
 
 @pytest.fixture(scope="module")
 def small():
-    return bench.bench(SMALL, progress=lambda text: None)
+    return bench.measure(SMALL, progress=lambda text: None)
 
 
 def test_errors_are_against_each_models_own_reference(small):
@@ -62,7 +63,7 @@ def test_errors_are_against_each_models_own_reference(small):
 def test_growth_is_fitted_on_the_measured_points(small):
     for axis, integrator, points, x, y, exponent in small["growth"]:
         assert len(points) == 3 and all(p.loop_s > 0 for p in points)
-        assert exponent == pytest.approx(bench.fitted_exponent(x, y), rel=1e-12)
+        assert exponent == pytest.approx(fits.fitted_exponent(x, y), rel=1e-12)
         assert math.isfinite(exponent)
     # Along simulated time every point runs all its steps (no early stop), so the
     # fitted loop times are those of 1000, 2000 and 4000 steps. (Those loops take
@@ -82,7 +83,7 @@ def test_the_report_names_every_method_and_the_plot_is_written(small, tmp_path):
 
 
 def test_bench_command_writes_its_report(small, tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(bench, "bench", lambda plan, progress: small)
+    monkeypatch.setattr(bench, "measure", lambda plan, progress: small)
     out = tmp_path / "bench"
     assert main(["bench", "--quick", "--out", str(out)]) == 0
     assert {p.name for p in out.iterdir()} == {".vibrofric", "bench.md", "bench.png"}
@@ -105,7 +106,7 @@ def test_a_law_row_is_against_its_own_reference(small):
 
 
 def test_step_breakdown_parts_add_up_to_the_measured_step(small):
-    """Each integrator's parts (fem.step_breakdown) and "the rest" sum to the step the
+    """Each integrator's parts (bench.step_breakdown) and "the rest" sum to the step the
     run measured (to rounding), and the timed parts took time."""
     for b in small["breakdowns"]:
         assert sum(part.seconds for part in b.parts) == pytest.approx(b.step_s, rel=1e-12)
@@ -123,10 +124,10 @@ def test_richardson_recovers_a_power_law_on_unequal_refinements():
     precision (1e-9 relative is far above its 2^-100); differences of changing sign
     (outside the asymptotic range) give nan rather than a number."""
     h = [13e-3, 7.5e-3, 5e-3, 3.8e-3]
-    f0, p, uncertainty = bench.richardson(h, [0.14 + 5.0 * x ** 1.3 for x in h])
+    f0, p, uncertainty = fits.richardson(h, [0.14 + 5.0 * x ** 1.3 for x in h])
     assert f0 == pytest.approx(0.14, rel=1e-9) and p == pytest.approx(1.3, rel=1e-9)
     assert uncertainty == pytest.approx(1.25 * 5.0 * h[-1] ** 1.3, rel=1e-6)
-    assert all(math.isnan(v) for v in bench.richardson([4, 2, 1], [1.0, 1.2, 1.1]))
+    assert all(math.isnan(v) for v in fits.richardson([4, 2, 1], [1.0, 1.2, 1.1]))
 
 
 def test_mesh_study_reports_each_level_against_the_extrapolation(small):

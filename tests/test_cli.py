@@ -6,7 +6,7 @@ import json
 import pytest
 
 from vibrofric.cli import EXIT_BAD_INPUT, EXIT_POINTS_FAILED, main
-from vibrofric.runs import analytic_scene
+from vibrofric.fe_beside_analytic import analytic_scene
 
 SHORT = ["--set", "time.T=0.2"]
 SUMMARY_KEYS = {"F_dv_over_F_d0", "F_dv", "F_d0", "breakaway_time_s", "steps", "wall_time_s"}

@@ -7,6 +7,7 @@ eigenfrequencies against stored values.
 """
 
 import itertools
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -178,3 +179,73 @@ def test_coarse_mesh_eigenfrequencies():
     assert np.all(np.abs(omega2[:6]) < 1e-10 * omega2[-1])
     frequencies = np.sqrt(omega2[6:12]) / (2 * np.pi)
     assert np.allclose(frequencies, COARSE_FREQUENCIES, rtol=1e-9, atol=0)
+
+
+def test_frames_from_the_arrays_match_dolfinxs_own(tmp_path, monkeypatch):
+    """A ParaView frame as paraview.FrameWriter writes it from the model's arrays
+    (meshio, the cells of ``hexahedra``) against the one DOLFINx's VTKFile writes
+    of the same fields: read back by VTK's reader (ParaView's), the same points,
+    the same cells, the same arrays (names, components, values at each point)."""
+    pyvista = pytest.importorskip("pyvista")
+    pytest.importorskip("meshio")
+    import dolfinx.fem
+    import dolfinx.io
+
+    from vibrofric.fem import paraview
+
+    mesh, _ = adapter.load_block(MPI.COMM_SELF, SIZE, "coarse")
+    V = adapter.vector_space(mesh)
+    coordinates = adapter.node_coordinates(V)
+    nodes = coordinates.shape[0]
+    rng = np.random.default_rng(27)
+    values = {name: rng.standard_normal(nodes if name == "contact_pressure" else (nodes, 3))
+              for name in paraview.FIELDS}
+
+    # DOLFINx's writer: the vectors on V, the scalar on its collapsed first component
+    Q, q_to_v = V.sub(0).collapse()
+    functions = []
+    for name in paraview.FIELDS:
+        function = dolfinx.fem.Function(Q if name == "contact_pressure" else V, name=name)
+        function.x.array[:] = (values[name][np.asarray(q_to_v) // 3] if name == "contact_pressure"
+                               else values[name].ravel())
+        functions.append(function)
+    with dolfinx.io.VTKFile(MPI.COMM_SELF, str(tmp_path / "dolfinx" / "block.pvd"), "w") as file:
+        file.write_function(functions, 0.25)
+    (piece,) = (tmp_path / "dolfinx").glob("*.vtu")   # one process: one piece
+    theirs = pyvista.read(piece)
+
+    # FrameWriter, its fields those above
+    monkeypatch.setattr(paraview, "node_fields", lambda model, state: values)
+    model = SimpleNamespace(disc=SimpleNamespace(coordinates=coordinates,
+                                                 cells=adapter.hexahedra(V)))
+    writer = paraview.FrameWriter(model, tmp_path / "meshio")
+    writer(SimpleNamespace(t=0.25))
+    writer.close()
+    reader = pyvista.get_reader(str(tmp_path / "meshio" / "block.pvd"))
+    assert reader.time_values == [0.25]
+    ours = reader.read()[0]
+
+    # Each of our points is one of theirs (to rounding: DOLFINx 0.5 writes 16 digits in ASCII).
+    assert ours.n_points == theirs.n_points == nodes
+    gaps = np.linalg.norm(ours.points[:, None, :] - theirs.points[None, :, :], axis=2)
+    match = gaps.argmin(axis=1)
+    assert np.all(gaps[np.arange(nodes), match] < 1e-12 * max(SIZE))
+    assert np.unique(match).size == nodes
+    # The same hexahedra, their corners in the same order: DOLFINx's as VTK's Lagrange
+    # hexahedron of degree 1 (type 72), ours as the linear one (12), which every reader
+    # knows; at degree 1 both list the 8 corners in the same order.
+    assert set(np.asarray(ours.celltypes).tolist()) == {adapter.VTK_HEXAHEDRON}
+    assert set(np.asarray(theirs.celltypes).tolist()) <= {adapter.VTK_HEXAHEDRON, 72}
+    ours_cells = {tuple(cell) for cell in match[ours.cells.reshape(-1, 9)[:, 1:]]}
+    assert ours_cells == {tuple(cell) for cell in theirs.cells.reshape(-1, 9)[:, 1:]}
+    # The same arrays (DOLFINx adds VTK's parallel bookkeeping: vtkGhostType,
+    # vtkOriginalPointIds); the values to DOLFINx's 16 digits (1e-15 of each field's size).
+    assert set(ours.point_data.keys()) == set(paraview.FIELDS)
+    assert {name for name in theirs.point_data.keys() if not name.startswith("vtk")} == set(
+        paraview.FIELDS)
+    for name in paraview.FIELDS:
+        mine, dolfinx_values = np.asarray(ours.point_data[name]), np.asarray(theirs.point_data[name])
+        assert mine.shape == dolfinx_values.shape, name
+        assert np.array_equal(mine, values[name]), name
+        scale = np.abs(values[name]).max()
+        assert np.allclose(mine, dolfinx_values[match], rtol=0, atol=1e-15 * scale), name

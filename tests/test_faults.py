@@ -310,13 +310,13 @@ def test_a_damaged_point_is_recomputed_and_counted(tmp_path, capsys, damage):
 # -- 8. unexpected failures: one line, and where the traceback went ---------------------------------
 
 def test_an_unexpected_error_prints_one_line_and_logs_the_traceback(tmp_path, capsys, monkeypatch):
-    from vibrofric.analytic import run as analytic_run
+    from vibrofric.analytic import solve as analytic_solve
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("a bug")
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    monkeypatch.setattr(analytic_run, "run", broken)
+    monkeypatch.setattr(analytic_solve, "solve", broken)
     assert main(["analytic", SCENE, *SHORT, "--out", str(tmp_path / "R")]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "analytic failed unexpectedly: ZeroDivisionError: a bug" in err[0]
@@ -430,13 +430,13 @@ def test_fuzzed_scene_files_load_or_are_refused(tmp_path, text):
 def test_accepted_extremes_give_a_result_or_say_why_not(F_N, v_d, theta):
     """Within the ranges, the stepper answers with a finite ratio, or is refused or stopped
     with a message (SceneError: too many steps; NumericalError): never NaN or inf."""
-    from vibrofric.analytic.run import run
+    from vibrofric.analytic.solve import solve
     from vibrofric.core.errors import NumericalError, Refusal
 
     try:
         scene = scene_module.load(SCENE, ["time.T=0.2", f"contact.F_N={F_N!r}", f"drive.v_d={v_d!r}",
                                           f"vibration.theta_deg={theta!r}"])
-        _, summary = run(scene, "coupled")
+        _, summary = solve(scene, "coupled")
     except (SceneError, NumericalError, Refusal):
         return
     ratio = summary["F_dv_over_F_d0"]

@@ -96,7 +96,7 @@ def test_vibrofric_run_reports_the_block_and_writes_one_steady_cycle(tmp_path, c
                 "floquet_max_modulus", "method"):
         assert key in block
     assert block["method"] == "periodic" and fe["settled"] and fe["breakaway_time_s"] is None
-    frames = sorted((out / "paraview").glob("block*.pvtu"))
+    frames = sorted((out / "paraview").glob("block*.vtu"))
     assert len(frames) == periodic.FRAMES_PER_CYCLE + 1
     series = np.genfromtxt(out / "timeseries.csv", delimiter=",", names=True)
     assert series["t"][-1] == pytest.approx(0.3)

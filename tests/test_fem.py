@@ -20,11 +20,11 @@ from vibrofric.analytic.summary import unsettled_warning  # noqa: E402
 from vibrofric.core.errors import NumericalError, StepTooLong  # noqa: E402
 from vibrofric.core.series import RecordPlan, full_resolution_steps  # noqa: E402
 from vibrofric.fem import FEResult, run_fe  # noqa: E402
-from vibrofric.fem import explicit, model as fem_model, normal_swing, recording, run as fem_run  # noqa: E402
+from vibrofric.fem import explicit, model as fem_model, normal_swing, recording, simulate as fem_simulate  # noqa: E402
 from vibrofric.fem.paraview import FIELDS  # noqa: E402
 from vibrofric.fem.stability import max_frequency  # noqa: E402
 from vibrofric.fem.drive import drive_stiffness_action  # noqa: E402
-from vibrofric.runs import fe_beside_analytic  # noqa: E402
+from vibrofric.fe_beside_analytic import fe_beside_analytic  # noqa: E402
 from vibrofric.scene import REFUSAL_KEYS  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -202,13 +202,9 @@ def test_front_face_drive_tilts_the_block(comm, breakaway_runs):
 
 
 def _frames(pvd: Path):
-    """(time, [.vtu paths]) of each frame of a .pvd (via its .pvtu)."""
-    frames = []
-    for entry in ET.parse(pvd).getroot().iter("DataSet"):
-        pvtu = pvd.parent / entry.get("file")
-        pieces = [pvd.parent / p.get("Source") for p in ET.parse(pvtu).getroot().iter("Piece")]
-        frames.append((float(entry.get("timestep")), pieces))
-    return frames
+    """(time, [.vtu paths]) of each frame of a .pvd."""
+    return [(float(entry.get("timestep")), [pvd.parent / entry.get("file")])
+            for entry in ET.parse(pvd).getroot().iter("DataSet")]
 
 
 def test_paraview_series_reads_back_in_meshio_and_pyvista(tmp_path, comm):
@@ -225,7 +221,7 @@ def test_paraview_series_reads_back_in_meshio_and_pyvista(tmp_path, comm):
     assert reader.time_values == pytest.approx([t for t, _ in frames])
     A = 0.03 * 0.04
     for k, (t, pieces) in enumerate(frames):
-        assert len(pieces) == 1  # one process, one piece (DOLFINx 0.5.2 listed it 7 times)
+        assert len(pieces) == 1
         by_meshio = meshio.read(pieces[0])
         reader.set_active_time_value(t)
         grid = reader.read()[0]
@@ -241,7 +237,7 @@ def test_paraview_series_reads_back_in_meshio_and_pyvista(tmp_path, comm):
             # Mean contact pressure ~ F_N / A (within 5%: the corner nodes' tributary areas differ).
             assert pressure[on_face].mean() == pytest.approx(scene.contact.F_N / A, rel=0.05)
             # friction_force summed over the face = the series' F_x, F_y at that step.
-            # ASCII output keeps 16 digits: 1e-9 of F_c is far above its rounding.
+            # The frames are binary (exact); 1e-9 of F_c: the sum's rounding is far below.
             total = np.asarray(data["friction_force"]).sum(axis=0)
             if t > 0:
                 row = np.flatnonzero(np.isclose(fe.series.t, t, rtol=0, atol=1e-9))
@@ -307,7 +303,7 @@ def test_nan_is_raised_as_numerical_error_with_the_time(comm, monkeypatch):
         model.load[3 * model.contact_nodes[0] + 2] = np.nan
         return model
 
-    monkeypatch.setattr(fem_run, "build_model", poisoned)
+    monkeypatch.setattr(fem_simulate, "build_model", poisoned)
     with pytest.raises(NumericalError, match=r"t = 1e-06 s \(step 1.*NaN"):
         run_fe(load(LONGITUDINAL, *SHORT), comm)
 

@@ -126,8 +126,7 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
     reduction.forget()
     second = model.build_model(scene, MPI.COMM_SELF)
     second_reduction = reduction.reduced(second, scene.fem.cutoff * scene.vibration.f)
-    assert second.disc.space is None              # DOLFINx untouched
-    for name in ("coordinates", "mass"):
+    for name in ("coordinates", "mass", "cells"):
         assert np.array_equal(getattr(first.disc, name), getattr(second.disc, name))
     K1, K2 = first.disc.stiffness, second.disc.stiffness
     assert (np.array_equal(K1.indptr, K2.indptr) and np.array_equal(K1.indices, K2.indices)
@@ -138,10 +137,10 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
     reduction.forget()
 
 
-def test_a_corrupt_model_entry_is_rebuilt(model_cache_dir, load_scene):
+def test_a_corrupt_model_entry_is_rebuilt(model_cache_dir, load_scene, monkeypatch):
     from mpi4py import MPI
 
-    from vibrofric.fem import model
+    from vibrofric.fem import model, model_cache
 
     scene = _short_scene(load_scene, "explicit", 1e-6)
     first = model.build_model(scene, MPI.COMM_SELF)
@@ -149,8 +148,12 @@ def test_a_corrupt_model_entry_is_rebuilt(model_cache_dir, load_scene):
     data = bytearray(entry.read_bytes())
     data[len(data) // 2] ^= 0xFF
     entry.write_bytes(bytes(data))
+    assembled = []
+    assemble = model_cache.assemble_block
+    monkeypatch.setattr(model_cache, "assemble_block",
+                        lambda *args: assembled.append(1) or assemble(*args))
     again = model.build_model(scene, MPI.COMM_SELF)
-    assert again.disc.space is not None            # assembled anew, not read
+    assert assembled                                # assembled anew, not read
     assert np.array_equal(first.disc.stiffness.data, again.disc.stiffness.data)
     assert disk_cache.read_arrays(entry) is not None  # and stored again, whole
 
@@ -177,17 +180,28 @@ def test_results_are_bit_identical_with_and_without_the_cache(model_cache_dir, l
     reduction.forget()
 
 
-def test_frames_from_a_cached_model_load_the_mesh(model_cache_dir, load_scene, tmp_path):
+def test_frames_from_a_cached_model_need_no_dolfinx(model_cache_dir, load_scene, tmp_path):
+    """A repeat run writes its ParaView frames from the cached model's arrays: the
+    same files, byte for byte, with neither DOLFINx, gmsh nor MPI imported."""
+    from vibrofric import output
     from vibrofric.fem import run_fe
 
     scene = _short_scene(load_scene, "explicit", 1e-6).with_values({"fem.output_every": 1000})
-    first = run_fe(scene, vtk_dir=tmp_path / "a")
-    second = run_fe(scene, vtk_dir=tmp_path / "b")
-    assert first.info["frames"] == second.info["frames"] > 1
-    assert (sorted(p.name for p in (tmp_path / "a").iterdir())
-            == sorted(p.name for p in (tmp_path / "b").iterdir()))
-    assert ((tmp_path / "a" / "block_p0_000001.vtu").read_bytes()
-            == (tmp_path / "b" / "block_p0_000001.vtu").read_bytes())
+    first = run_fe(scene, vtk_dir=tmp_path / "a")   # builds the model, or reads it
+    output.write_scene(tmp_path, scene)
+    code = ("import sys; from vibrofric import scene as s; from vibrofric.fem import run_fe; "
+            f"run_fe(s.load({str(tmp_path / 'scene.toml')!r}), vtk_dir={str(tmp_path / 'b')!r}); "
+            "print(sorted(m for m in ('dolfinx', 'gmsh', 'mpi4py', 'petsc4py') if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env=child_environment(VIBROFRIC_CACHE=str(model_cache_dir.parent)),
+                          cwd=ROOT, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip().splitlines()[-1] == "[]"
+    assert first.info["frames"] > 1
+    written = sorted(p.name for p in (tmp_path / "a").iterdir())
+    assert written == sorted(p.name for p in (tmp_path / "b").iterdir())
+    for name in written:
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
 
 
 # --- compiling: announced, once, never from a damaged cache -------------------------------------
@@ -289,3 +303,18 @@ def test_the_bar_restarts_its_clock_when_the_loop_starts():
         assert bar.n == bar.total == 0.3
     finally:
         bar.close()
+
+
+def test_the_warm_up_keeps_the_compilers_chatter_off_the_terminal():
+    """python -m vibrofric.warm's logging (warm.quiet_libraries, first thing): a library
+    that logs at INFO (FFCx's basicConfig, then setuptools lowering the root logger to
+    INFO and logging each C compiler command line, on a first FE model build) is not
+    shown; a warning is."""
+    code = ("import logging; from vibrofric.warm import quiet_libraries; quiet_libraries(); "
+            "logging.basicConfig(); logging.getLogger().setLevel(logging.INFO); "
+            "logging.info('building libffcx_forms'); logging.warning('a warning kept')")
+    done = subprocess.run([sys.executable, "-c", code], env=child_environment(), cwd=ROOT,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "a warning kept" in done.stderr
+    assert "libffcx" not in done.stderr and "INFO" not in done.stderr

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from vibrofric.core.errors import NumericalError
-from vibrofric.analytic.run import run
+from vibrofric.analytic.solve import solve
 from vibrofric.cli import main
 
 V_MAX_OVER_V_D = 7.0  # |v_r| peaks at v_d + v_a = 7 v_d for k_v = 6
@@ -25,8 +25,8 @@ def stiff_contact(scene, ratio):
 @pytest.mark.parametrize("ratio", [1.5, 1.9, 2.1, 2.5])
 def test_paper_update_near_and_past_2_s_c_stays_bounded(load_scene, ratio):
     scene = stiff_contact(load_scene("longitudinal", time__T=0.4), ratio)
-    paper = run(scene.with_values({"contact.update": "paper"}))[1]["F_dv_over_F_d0"]
-    converged = run(scene.with_values({"contact.update": "exact", "time.dt": 1e-7}))[1]["F_dv_over_F_d0"]
+    paper = solve(scene.with_values({"contact.update": "paper"}))[1]["F_dv_over_F_d0"]
+    converged = solve(scene.with_values({"contact.update": "exact", "time.dt": 1e-7}))[1]["F_dv_over_F_d0"]
     # |v_r| reaches its peak only briefly each cycle, so the explicit update
     # overshoots there and recovers: measured within 0.75% of the converged value
     assert paper == pytest.approx(converged, rel=0.01)
@@ -35,9 +35,9 @@ def test_paper_update_near_and_past_2_s_c_stays_bounded(load_scene, ratio):
 def test_paper_update_far_past_2_s_c_is_refused_not_written(load_scene, tmp_path, capsys):
     scene = stiff_contact(load_scene("longitudinal", time__T=0.4), 6.0)
     with pytest.raises(NumericalError, match="2 s_c"):
-        run(scene.with_values({"contact.update": "paper"}))
+        solve(scene.with_values({"contact.update": "paper"}))
     # the exact update has no such limit
-    assert run(scene.with_values({"contact.update": "exact"}))[1]["F_dv"] > 0
+    assert solve(scene.with_values({"contact.update": "exact"}))[1]["F_dv"] > 0
     out = tmp_path / "never"
     code = main(["analytic", "scenes/longitudinal.toml", "--set", "time.T=0.4", "--set",
                  f"contact.k_t={scene.contact.k_t}", "--set", "contact.update=paper", "--out", str(out)])
@@ -47,14 +47,14 @@ def test_paper_update_far_past_2_s_c_is_refused_not_written(load_scene, tmp_path
 
 def test_transverse_k_v_20_converges_in_dt(load_scene):
     scene = load_scene("transverse", time__T=0.4)
-    ratios = [run(scene.with_values({"time.dt": dt}))[1]["F_dv_over_F_d0"] for dt in (1e-6, 2.5e-7)]
+    ratios = [solve(scene.with_values({"time.dt": dt}))[1]["F_dv_over_F_d0"] for dt in (1e-6, 2.5e-7)]
     assert ratios[0] == pytest.approx(ratios[1], rel=0.005)  # first order: the 1e-6 error is ~4/3 of the gap
 
 
 def test_ultrasonic_base_converges_in_dt(load_scene):
     scene = load_scene("longitudinal", vibration__f=20000.0, time__T=0.4)
     # 50 steps a cycle at 1e-6; u0 = 24 nm is a third of s_c: the asperity barely slides
-    ratios = [run(scene.with_values({"time.dt": dt}))[1]["F_dv_over_F_d0"] for dt in (1e-6, 1e-7)]
+    ratios = [solve(scene.with_values({"time.dt": dt}))[1]["F_dv_over_F_d0"] for dt in (1e-6, 1e-7)]
     assert ratios[0] == pytest.approx(ratios[1], rel=0.002)  # measured 1.2e-4
     assert 0.2 < ratios[1] < 0.3
 
@@ -75,7 +75,7 @@ def stick_slip(load_scene):
     scene = load_scene("longitudinal", contact__law="lugre", contact__F_s=7.15, contact__v_s=1e-3,
                        drive__v_d=1e-4, drive__k_d=2e4, vibration__t_on=4.0, time__T=8.0,
                        time__series_dt=1e-4)
-    return scene, {dt: run(scene.with_values({"time.dt": dt}))[0] for dt in (1e-6, 5e-7)}
+    return scene, {dt: solve(scene.with_values({"time.dt": dt}))[0] for dt in (1e-6, 5e-7)}
 
 
 def test_stick_slip_is_resolved_and_bounded(stick_slip):
@@ -107,5 +107,5 @@ def test_vibration_quenches_stick_slip(stick_slip):
 def test_lugre_with_a_sharp_stribeck_curve_converges(load_scene):
     scene = load_scene("longitudinal", contact__law="lugre", contact__F_s=11.0, contact__v_s=1e-5,
                        time__T=0.4)
-    ratios = [run(scene.with_values({"time.dt": dt}))[1]["F_dv_over_F_d0"] for dt in (1e-6, 2.5e-7)]
+    ratios = [solve(scene.with_values({"time.dt": dt}))[1]["F_dv_over_F_d0"] for dt in (1e-6, 2.5e-7)]
     assert ratios[0] == pytest.approx(ratios[1], rel=0.002)  # measured 3e-5

@@ -228,9 +228,9 @@ def test_before_the_base_moves_fewer_friction_substeps_give_the_same_run(monkeyp
                  "vibration.t_on=0.02", "time.T=0.025", "time.average_cycles=4",
                  "fem.output_every=0")
     assert contact_solve.still_substeps(scene) == 2
-    assert contact_solve.friction_substeps(scene) == 11
+    assert contact_solve.implicit_substeps(scene) == 11
     fewer = run_fe(scene).series.F_d
-    monkeypatch.setattr(implicit, "still_substeps", contact_solve.friction_substeps)
+    monkeypatch.setattr(implicit, "still_substeps", contact_solve.implicit_substeps)
     every = run_fe(scene).series.F_d
     assert not np.array_equal(fewer, every)     # the sub-steps did change
     assert np.abs(fewer - every).max() < 1e-10 * np.abs(every).max()
@@ -693,10 +693,10 @@ def test_prescribed_sliding_on_a_stiff_block_on_a_stiff_contact_matches_the_lump
     """E x 100 and k_t x 100 (8e9 N/m): the block is nearly the lumped model's rigid
     body, and the contact is at the rigid-Coulomb limit. Reduced at 1e-6 s, 2 ms of
     vibration after 2 ms of sliding, against the lumped stepper at the step that
-    resolves the slip (runs.analytic_scene): measured -1e-4 (longitudinal) and
+    resolves the slip (fe_beside_analytic.analytic_scene): measured -1e-4 (longitudinal) and
     -3e-4 (transverse). 1e-3 leaves room for the block's remaining compliance
     and rocking (the README's 5 mm tall stiff block: 1.5e-3 and 1.7e-3)."""
-    from vibrofric.runs import analytic_scene
+    from vibrofric.fe_beside_analytic import analytic_scene
     scene = load(path, 'drive.mode="velocity"', "contact.k_t=8e9", "body.E=2.09e13",
                  "vibration.t_on=0.002", "time.T=0.006", "time.average_cycles=8",
                  "fem.output_every=0", 'fem.integrator="reduced"', "time.dt=1e-6")

@@ -47,8 +47,12 @@ LAWS = {
 BOUNDED = [name for name, (_, values) in LAWS.items() if values.get("update") != "paper"]
 if os.environ.get("VIBROFRIC_LAW"):
     USER_LAW = Path(os.environ["VIBROFRIC_LAW"]).resolve()
-    LAWS[USER_LAW.stem] = (str(USER_LAW), {})
-    BOUNDED.append(USER_LAW.stem)
+    # Named by its file's stem; a stem that is already a law's here (a copy of
+    # jenkins.py kept under that name) becomes user-<stem>, so that neither replaces
+    # the other and "-k <stem>" still selects the user's cases.
+    USER_NAME = USER_LAW.stem if USER_LAW.stem not in LAWS else f"user-{USER_LAW.stem}"
+    LAWS[USER_NAME] = (str(USER_LAW), {})
+    BOUNDED.append(USER_NAME)
 
 
 def given_values(name) -> dict:
@@ -225,9 +229,12 @@ def test_1d_stepper_equals_coupled_along_x(name):
 
 
 @pytest.mark.parametrize("name, overrides, contact", [
-    *((name, ("vibration.theta_deg=30", "vibration.k_v=20"), {}) for name in LAWS),
-    ("dahl", ("vibration.theta_deg=250", "vibration.k_v=3"), {"update": "paper"}),
-    ("lugre", ("vibration.theta_deg=90",), {"h_t": 20.0, "h_v": 5.0}),    # with its dampings
+    *(pytest.param(name, ("vibration.theta_deg=30", "vibration.k_v=20"), {}, id=name)
+      for name in LAWS),
+    pytest.param("dahl", ("vibration.theta_deg=250", "vibration.k_v=3"), {"update": "paper"},
+                 id="dahl-paper-theta250"),
+    pytest.param("lugre", ("vibration.theta_deg=90",), {"h_t": 20.0, "h_v": 5.0},
+                 id="lugre-damped-transverse"),    # with its dampings
 ])
 def test_fe_node_reproduces_lumped_forces(name, overrides, contact):
     """The FE model's per-node contact (fem.contact) on ONE node (area share 1, normal
@@ -262,7 +269,7 @@ def test_fe_node_reproduces_lumped_forces(name, overrides, contact):
     assert np.abs(fe[:, 1] - lumped.F_y).max() <= 1e-10 * scale
 
 
-@pytest.mark.parametrize("theta", [0.0, 90.0])   # longitudinal and transverse vibration
+@pytest.mark.parametrize("theta", [0.0, 90.0], ids=["longitudinal", "transverse"])
 @pytest.mark.parametrize("name", LAWS)
 def test_dt_convergence_at_declared_order(name, theta):
     """The mean drive force over the averaging window at dt, dt/2, dt/4 against dt/16:
@@ -280,6 +287,37 @@ def test_dt_convergence_at_declared_order(name, theta):
     assert abs(observed - order) < 0.5, (errors, observed)
 
 
+@pytest.mark.parametrize("stem, name", [("my_law", "my_law"), ("jenkins", "user-jenkins")])
+def test_a_users_law_is_selected_by_its_file_name(tmp_path, stem, name):
+    """The documented command (VIBROFRIC_LAW=my_law.py ... -k my_law) collects every
+    property for the user's law, each id the property and the law's name: the file's
+    stem, or user-<stem> for a stem the suite already uses (a copy of jenkins.py kept
+    under its name), which then neither replaces the example nor is replaced by it."""
+    import subprocess
+    import sys
+
+    from conftest import child_environment
+
+    law = tmp_path / f"{stem}.py"
+    law.write_text(JENKINS)
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", str(Path(__file__)), "--collect-only", "-q",
+         "-p", "no:cacheprovider", "-k", f"{stem} or maxwell_slip"],
+        capture_output=True, text=True, timeout=300, cwd=ROOT,
+        env=child_environment(VIBROFRIC_LAW=str(law)))
+    ids = {line.split("::")[1] for line in done.stdout.splitlines() if "::" in line}
+    assert f"test_rotation_invariance[{name}]" in ids, done.stdout + done.stderr
+    assert f"test_dt_convergence_at_declared_order[{name}-transverse]" in ids
+    def properties(law):
+        return {test.split("[")[0] for test in ids
+                if test.endswith((f"[{law}]", f"[{law}-longitudinal]"))}
+
+    # every property the suite checks on the example law (the slow FE case deselected)
+    assert properties(name) == properties("maxwell_slip") and len(properties(name)) >= 9
+    if name != stem:
+        assert f"test_rotation_invariance[{stem}]" in ids    # the example law still runs
+
+
 def test_the_example_law_runs_through_the_command(tmp_path, capsys):
     """``vibrofric analytic`` on the example scene: the law file named relative to it."""
     from vibrofric.cli import main
@@ -293,13 +331,16 @@ def test_the_example_law_runs_through_the_command(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("source, extra, message", [
-    ("PARAMETERS = {}\n", [], "is not a friction law: it lacks STATE_SIZE"),
-    ("raise RuntimeError('broken')\n", [], "could not be loaded: RuntimeError: broken"),
-    (None, [], "contact.law: no friction law file"),
-    ((ROOT / "examples" / "laws" / "maxwell_slip.py").read_text(), ["contact.stiffness=1e6"],
-     "contact.stiffness: not a parameter of the friction law"),
-    ((ROOT / "examples" / "laws" / "maxwell_slip.py").read_text(), ["contact.mu=-0.1"],
-     "contact.mu: must lie in [0, inf], got -0.1"),
+    pytest.param("PARAMETERS = {}\n", [], "is not a friction law: it lacks STATE_SIZE",
+                 id="lacks-state-size"),
+    pytest.param("raise RuntimeError('broken')\n", [], "could not be loaded: RuntimeError: broken",
+                 id="raises-at-import"),
+    pytest.param(None, [], "contact.law: no friction law file", id="no-such-file"),
+    pytest.param((ROOT / "examples" / "laws" / "maxwell_slip.py").read_text(),
+                 ["contact.stiffness=1e6"], "contact.stiffness: not a parameter of the friction law",
+                 id="unknown-parameter"),
+    pytest.param((ROOT / "examples" / "laws" / "maxwell_slip.py").read_text(), ["contact.mu=-0.1"],
+                 "contact.mu: must lie in [0, inf], got -0.1", id="parameter-out-of-range"),
 ])
 def test_a_law_that_breaks_the_contract_is_refused_before_any_work(tmp_path, capsys, source, extra,
                                                                     message):
@@ -341,10 +382,10 @@ def test_rigid_contact_patch_reproduces_lumped_law(name):
     law; the same FE scene on the steel block differs by up to 15% under the old
     rule (keep)."""
     pytest.importorskip("dolfinx")
-    from vibrofric.analytic.run import run as run_analytic
+    from vibrofric.analytic.solve import solve as run_analytic
     from vibrofric.analytic.summary import summarize
     from vibrofric.fem import run_fe
-    from vibrofric.runs import analytic_scene
+    from vibrofric.fe_beside_analytic import analytic_scene
 
     scene = short_scene(name, *RIGID_FLAT_BLOCK, 'fem.integrator="reduced"', "fem.output_every=0",
                         'fem.mesh="tiny"', "time.average_cycles=8")

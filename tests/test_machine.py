@@ -1,11 +1,11 @@
-"""The roofline (vibrofric.core.machine) and the operation counts a step's parts are bounded by
-(fem.step_breakdown.operator_cost)."""
+"""The roofline (vibrofric.bench.machine) and the operation counts a step's parts are bounded by
+(bench.step_breakdown.operator_cost)."""
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from vibrofric.core import machine
+from vibrofric.bench import machine
 
 
 def test_bound_is_the_slower_of_memory_and_arithmetic():
@@ -20,7 +20,7 @@ def test_bound_is_the_slower_of_memory_and_arithmetic():
 def test_operator_costs_count_every_stored_entry():
     pytest.importorskip("dolfinx")   # fem imports the adapter's siblings
     from vibrofric.fem.linalg import bsr, factorize
-    from vibrofric.fem.step_breakdown import operator_cost
+    from vibrofric.bench.step_breakdown import operator_cost
 
     rng = np.random.default_rng(1)
     dense = rng.random((6, 6))

@@ -9,7 +9,7 @@ import pytest
 
 from vibrofric import scene as scene_module
 from vibrofric.analytic import periodic
-from vibrofric.analytic.run import run
+from vibrofric.analytic.solve import solve
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -50,14 +50,14 @@ def _scene(load_scene, name, changes):
 def test_periodic_equals_the_settled_transient_of_the_same_stepper(load_scene, case):
     name, changes, stepper = CASES[case]
     scene = _scene(load_scene, name, changes).with_values({"time.method": "periodic"})
-    _, answer = run(scene, stepper)
+    _, answer = solve(scene, stepper)
     block = answer["periodic"]
     assert block["method"] == "periodic", block
     assert block["converged"] and block["floquet_max_modulus"] < 1.0
     # the transient at the step the orbit used (a whole number of steps a cycle)
     stepped = scene.with_values({"time.method": "transient", "time.dt": block["dt"],
                                  "time.T": 1.2})
-    _, transient = run(stepped, stepper)
+    _, transient = solve(stepped, stepper)
     assert transient["window_drift"] < 1e-7    # it has settled far below the bound
     assert math.isclose(answer["F_dv"], transient["F_dv"], rel_tol=RELATIVE), \
         (answer["F_dv"], transient["F_dv"])
@@ -67,7 +67,7 @@ def test_a_whole_number_of_steps_per_cycle_is_used_and_reported(load_scene):
     scene = load_scene("coupled", time__method="periodic")   # 3 kHz at 1e-6 s: 333.3 steps
     steps, dt = periodic.cycle_steps(scene)
     assert steps == 333 and steps * dt * scene.vibration.f == pytest.approx(1.0, rel=1e-14)
-    block = run(scene)[1]["periodic"]
+    block = solve(scene)[1]["periodic"]
     assert block["dt_adjusted"] and block["dt"] == dt and block["steps_per_cycle"] == 333
     fig7 = load_scene("longitudinal", time__method="periodic")  # 4 kHz: 250 steps exactly
     assert periodic.cycle_steps(fig7) == (250, fig7.time.dt)
@@ -100,7 +100,7 @@ def test_an_orbit_that_is_not_stable_is_never_the_answer(load_scene, monkeypatch
     Fig 7 orbit's real largest multiplier, 0.984)."""
     monkeypatch.setattr(periodic, "STABLE", 0.5)
     scene = load_scene("longitudinal", time__method="auto")
-    series, summary = run(scene)
+    series, summary = solve(scene)
     block = summary["periodic"]
     assert block["method"] == "transient" and block["converged"]
     assert "multiplier" in block["reason"] and block["floquet_max_modulus"] > 0.5
@@ -121,7 +121,7 @@ def test_an_undamped_drive_is_reported_as_not_attracting(load_scene):
     turn = math.sqrt(scene.drive.k_d / scene.body.mass) / scene.vibration.f
     # the semi-implicit Euler oscillator turns by asin(w dt) per step, w dt ~ 2e-4: 1e-8 off
     assert abs(math.atan2(lead.imag, lead.real)) == pytest.approx(turn, rel=1e-4)
-    block = run(scene)[1]["periodic"]
+    block = solve(scene)[1]["periodic"]
     assert block["method"] == "transient" and "unit circle" in block["reason"]
 
 
@@ -131,13 +131,13 @@ def test_a_period_doubling_orbit_is_reported_and_the_run_stepped(load_scene):
     (its friction force differs by ~2.3 N, 45% of F_c, from one cycle to the next)."""
     scene = load_scene("coupled", vibration__k_v=1.0, vibration__theta_deg=0.0,
                        contact__k_t=67.29e8, time__method="periodic")
-    series, summary = run(scene)
+    series, summary = solve(scene)
     block = summary["periodic"]
     assert block["converged"] and block["period_doubling"] and block["method"] == "transient"
     assert block["floquet_max_modulus"] > 1.0 and "period doubling" in block["reason"]
     steps = block["steps_per_cycle"]
     stepped = scene.with_values({"time.dt": block["dt"], "time.series_dt": block["dt"]})
-    series, _ = run(stepped.with_values({"time.method": "transient"}))
+    series, _ = solve(stepped.with_values({"time.method": "transient"}))
     last, before = series.F_x[-steps:], series.F_x[-2 * steps:-steps]
     assert np.max(np.abs(last - before)) > 0.1 * scene.F_c   # not period 1
 
@@ -145,7 +145,7 @@ def test_a_period_doubling_orbit_is_reported_and_the_run_stepped(load_scene):
 def test_transient_stays_the_default_and_unchanged(load_scene):
     scene = load_scene("longitudinal")
     assert scene.time.method == "transient"
-    assert "periodic" not in run(scene)[1]
+    assert "periodic" not in solve(scene)[1]
 
 
 def test_an_unknown_method_is_refused(load_scene):
@@ -165,7 +165,7 @@ def test_a_sweep_by_continuation_finds_each_points_own_orbit(load_scene):
     records = sweep(scene, grid, workers=1, progress=False)
     points = [{"vibration.k_v": k, "vibration.theta_deg": t} for k in (3.0, 6.0)
               for t in (30.0, 45.0, 60.0)]
-    alone = [run(scene.with_values(values))[1] for values in points]
+    alone = [solve(scene.with_values(values))[1] for values in points]
     for record, single in zip(records, alone):
         assert record["periodic"]["method"] == single["periodic"]["method"] == "periodic"
         assert math.isclose(record["F_dv"], single["F_dv"], rel_tol=1e-9)
@@ -222,13 +222,13 @@ def test_periodic_equals_the_settled_transient_over_the_papers_grids(load_scene,
     scene = load_scene(name, time__method="periodic")
     for values in points:
         point = scene.with_values(values)
-        _, answer = run(point)
+        _, answer = solve(point)
         block = answer["periodic"]
         if block["method"] != "periodic":
             assert values["vibration.k_v"] <= 1.0 and "unit circle" in block["reason"], values
             continue
         stepped = point.with_values({"time.method": "transient", "time.dt": block["dt"],
                                      "time.T": 1.5})
-        transient = run(stepped)[1]["F_dv"]
+        transient = solve(stepped)[1]["F_dv"]
         assert math.isclose(answer["F_dv"], transient, rel_tol=RELATIVE), (values, answer["F_dv"],
                                                                          transient)

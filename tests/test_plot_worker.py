@@ -13,7 +13,7 @@ import pytest
 
 from vibrofric import output, plot_worker, plots
 from vibrofric import scene as scene_module
-from vibrofric.analytic.run import run
+from vibrofric.analytic.solve import solve
 from vibrofric.cli import EXIT_BAD_INPUT, main
 from vibrofric.core.series import written
 
@@ -42,7 +42,7 @@ def test_plots_are_those_drawn_in_one_process(tmp_path, started):
     assert main(["analytic", LONGITUDINAL, *SHORT, "--out", str(out)]) == 0
     assert len(started) == 1 and started[0].returncode == 0
     scene = scene_module.load(LONGITUDINAL, ["time.T=0.2"])
-    runs = {"coupled": written(run(scene)[0], scene)}
+    runs = {"coupled": written(solve(scene)[0], scene)}
     plots.drive_force_history(runs, scene, tmp_path / "drive_force.png")
     plots.friction_last_cycles(runs, scene, tmp_path / "friction_last_cycles.png")
     for name in ("drive_force.png", "friction_last_cycles.png"):

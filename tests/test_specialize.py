@@ -54,7 +54,7 @@ def test_only_the_most_recent_compiled_versions_stay_on_disk(tmp_path):
             path = tmp_path / f"{prefix}{fingerprint}{suffix}"
             path.write_text("")
             os.utime(path, (1e9 - age, 1e9 - age))   # fingerprint 0 the newest
-    other = tmp_path / "coupled._record-30.py311.nbi"
+    other = tmp_path / "coupled.record_row-30.py311.nbi"
     other.write_text("")
     dispatcher = types.SimpleNamespace(_cache=types.SimpleNamespace(_cache_path=str(tmp_path)))
     specialize._prune(dispatcher, prefix)

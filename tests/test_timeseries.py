@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from vibrofric import budget
-from vibrofric.analytic.run import run
+from vibrofric.analytic.solve import solve
 from vibrofric.analytic.summary import cycle_average
 from vibrofric.cli import main
 from vibrofric.core.series import averaging_steps, written, written_rows, written_stride
@@ -42,7 +42,7 @@ def test_default_series_holds_the_documented_rows(tmp_path, capsys, load_scene, 
     analytic(tmp_path, capsys, "A", "scenes/transverse.toml", *SHORT)
     scene = load_scene("transverse", time__T=0.2)
     table = written_by_rule(tmp_path / "A" / "timeseries.csv", scene)
-    kept = run(scene)[0]
+    kept = solve(scene)[0]
     assert 8 * 0.2 * scene.vibration.f < len(table) < kept.t.size / 3
     assert np.array_equal(table, written(kept, scene).table())  # the values, to the last bit
 
@@ -53,7 +53,7 @@ def test_full_series_writes_every_step(tmp_path, capsys, load_scene):
     scene = load_scene("longitudinal", vibration__t_on=0.01, time__T=0.03,
                        time__average_cycles=10, time__series_dt=1e-6)
     assert np.array_equal(np.rint(table[:, 0] / scene.time.dt), np.arange(1, scene.steps + 1))
-    assert np.array_equal(table, run(scene)[0].table())
+    assert np.array_equal(table, solve(scene)[0].table())
 
 
 def test_summary_does_not_depend_on_the_written_rows(tmp_path, capsys, load_scene):

@@ -165,7 +165,7 @@ def wait_for_frames(process, home: Path, frames: int, timeout: float = 300) -> N
     """Wait until the run's staging directory holds ``frames`` ParaView frames:
     its FE time loop is under way."""
     deadline = time.monotonic() + timeout
-    while len(list(home.glob(f".*{output.PARTIAL}*/paraview/*.pvtu"))) < frames:
+    while len(list(home.glob(f".*{output.PARTIAL}*/paraview/*.vtu"))) < frames:
         assert process.poll() is None, "the run ended before it was interrupted"
         assert time.monotonic() < deadline
         time.sleep(0.05)

@@ -185,7 +185,7 @@ def run_analytic(scene: "Scene", out: str | Path | None = None, *, stepper: str 
     (0.14, ['t', 'F_d', 'F_x', 'F_y'])
     """
     from . import budget, output
-    from .analytic.run import run
+    from .analytic.solve import solve
     from .core.series import written
 
     check_stepper(scene, stepper)
@@ -193,7 +193,7 @@ def run_analytic(scene: "Scene", out: str | Path | None = None, *, stepper: str 
     if target is not None:
         output.check_target(target, "analytic", force)
         budget.check([scene], fe=False, out=target, full_series=full_series)
-    series, summary = run(scene, stepper)
+    series, summary = solve(scene, stepper)
     if target is not None:
         from . import plots
 
@@ -227,7 +227,7 @@ def write_fe_run(scene: "Scene", stage: Path, progress: Callable[[float, float],
     JSON, with "out" where ``out`` is given."""
     from . import output, plots
     from .picture import block_picture
-    from .runs import fe_beside_analytic
+    from .fe_beside_analytic import fe_beside_analytic
 
     done = fe_beside_analytic(scene, stage, progress=progress, full_series=full_series)
     document = {**done.document, "out": out} if out is not None else done.document

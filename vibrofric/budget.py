@@ -16,9 +16,9 @@ estimate in the message. The estimates are rough upper bounds:
             freedom and step: the explicit loop of the coarse mesh; and for FE
             FRICTION_UPDATE_SECONDS per friction-law update of a contact node, of
             which a stiff or fast contact takes many a step (the explicit loop's
-            sub-steps, fem.explicit.friction_substeps, at most
+            sub-steps, fem.explicit.explicit_substeps, at most
             fem.contact.MAX_SUBSTEPS), and the analytic stepper run beside
-            at its own step (runs.analytic_scene)
+            at its own step (fe_beside_analytic.analytic_scene)
 """
 
 import copy
@@ -84,14 +84,14 @@ def contact_nodes(scene) -> int:
 def friction_updates(scene) -> int:
     """Friction-law updates a node takes in a step of the FE loop (its sub-steps)."""
     from .fem.contact import MAX_SUBSTEPS
-    from .fem.explicit import friction_substeps
+    from .fem.explicit import explicit_substeps
 
-    return min(friction_substeps(scene), MAX_SUBSTEPS)
+    return min(explicit_substeps(scene), MAX_SUBSTEPS)
 
 
 def analytic_beside_steps(scene) -> float:
-    """Steps of the analytic stepper an FE run runs beside it (runs.analytic_scene)."""
-    from .runs import analytic_scene
+    """Steps of the analytic stepper an FE run runs beside it (fe_beside_analytic.analytic_scene)."""
+    from .fe_beside_analytic import analytic_scene
 
     return scene.time.T / analytic_scene(scene).time.dt
 

@@ -197,7 +197,7 @@ def cmd_analytic(args) -> None:
         with one_blas_thread():  # numpy loads here: no BLAS threads to spin on the other core
             from . import budget
             from . import scene as scene_module
-            from .analytic.run import run
+            from .analytic.solve import solve
             from .api import check_stepper
             from .core.series import written
 
@@ -206,7 +206,7 @@ def cmd_analytic(args) -> None:
         target, claim = _target(args, "analytic")
         budget.check([scene], fe=False, out=target or Path("results"),
                      full_series=args.full_series)
-        series, summary = run(scene, args.stepper)
+        series, summary = solve(scene, args.stepper)
         series = written(series, scene, args.full_series)  # the summary is of every kept row
         target = target or output.default_dir(scene.name)
         with output.staged(target, "analytic", claimed=claim) as stage:
@@ -322,7 +322,7 @@ def cmd_bench(args) -> None:
 
     target, claim = _target(args, "bench")
     plan = bench.QUICK if args.quick else bench.FULL
-    result = bench.bench(plan, progress=lambda text: print(text, file=sys.stderr))
+    result = bench.measure(plan, progress=lambda text: print(text, file=sys.stderr))
     table = bench.markdown(result)
     target = target or output.default_dir("bench")
     with output.staged(target, "bench", claimed=claim) as stage:

@@ -7,8 +7,15 @@ cache holds every built-in law's loops and the model cache (fem/model_cache.py)
 the default block: the first ``vibrofric run`` or ``analytic`` after
 ``make setup`` (which runs this) compiles nothing. A user's law still
 compiles on its first run, and says so.
+
+It says what it does in one line; the libraries' own chatter while it
+builds the FE model for the first time (FFCx compiling DOLFINx's forms: its
+``logging.basicConfig()``, then setuptools lowering the root logger to INFO
+and logging every C compiler command line) is kept off the terminal, as in
+every ``vibrofric`` command (cli.py).
 """
 
+import logging
 import sys
 
 from .friction_law.contract import BUILT_IN
@@ -30,10 +37,11 @@ STEPPERS = {"coupled": tuple(BUILT_IN), "longitudinal": ("dahl",)}   # longitudi
 def warm(fe: bool = True) -> None:
     """Load or compile every built-in law's loops (and build the default FE model)."""
     from . import scene as scene_module
-    from .analytic.run import run
+    from .analytic.solve import solve
 
     print("vibrofric: compiling the built-in friction laws' loops (" + ", ".join(BUILT_IN)
-          + ") for the analytic steppers" + (" and every FE integrator" if fe else "")
+          + ") for the analytic steppers" + (" and every FE integrator, and building the "
+                                             "default block's FE model" if fe else "")
           + ": once, at set-up", file=sys.stderr, flush=True)
     base = scene_module.from_dict(SCENE, "warm")
     with unannounced():
@@ -41,7 +49,7 @@ def warm(fe: bool = True) -> None:
             scene = base if law == "dahl" else base.with_law(law)
             for stepper, laws in STEPPERS.items():
                 if law in laws:
-                    run(scene, stepper)
+                    solve(scene, stepper)
             if fe:
                 from .fem import run_fe
 
@@ -49,5 +57,15 @@ def warm(fe: bool = True) -> None:
                     run_fe(scene.with_values({"fem.integrator": integrator, "time.dt": dt}))
 
 
+def quiet_libraries() -> None:
+    """The libraries' warnings and errors on stderr, not their INFO lines (a handler
+    of its own at WARNING: FFCx's basicConfig then adds none, and the root
+    logger's level, which setuptools lowers, passes nothing more to it)."""
+    handler = logging.StreamHandler()
+    handler.setLevel(logging.WARNING)
+    logging.getLogger().addHandler(handler)
+
+
 if __name__ == "__main__":
+    quiet_libraries()
     warm()

@@ -2,7 +2,7 @@
 
 The page docs/scenes.md holds the line ``<!-- scene-keys -->``; this hook puts
 there a table per scene section, read from the scene's dataclasses
-(vibrofric/scene.py: each key's type, default and the comment beside it), and
+(vibrofric/scene/schema.py: each key's type, default and the comment beside it), and
 one per built-in friction law, read from its PARAMETERS (friction_law/). A key
 added to the code appears in the docs at the next build.
 """

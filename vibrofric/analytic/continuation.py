@@ -7,7 +7,7 @@ falls back to stepping (no stable orbit) hands nothing on: the next starts from
 steady sliding again.
 """
 
-from .run import run_with_orbit
+from .solve import solve_with_orbit
 
 
 def run_in_sequence(scene, points: list, stepper: str = "coupled") -> list[dict]:
@@ -16,7 +16,7 @@ def run_in_sequence(scene, points: list, stepper: str = "coupled") -> list[dict]
     summaries = []
     start = None
     for values in points:
-        _, summary, start = run_with_orbit(scene.with_values(values), stepper, start)
+        _, summary, start = solve_with_orbit(scene.with_values(values), stepper, start)
         summaries.append(summary)
     return summaries
 

@@ -20,14 +20,15 @@ from numba import njit
 
 from ..core.base_motion import base_displacement, vibration_axis
 from ..core.errors import NumericalError
-from ..core.friction import divergence_force
+from ..core.law_limits import divergence_force
 from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolution_steps
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 
 
 @njit(cache=True, error_model="numpy")
-def _record(out, j, t, f_d, f_x, f_y, x, y, xb, yb):
+def record_row(out, j, t, f_d, f_x, f_y, x, y, xb, yb):
+    """Row j of the kept series (core.series.COLUMNS): t, F_d, F_x, F_y, x, y, x_b, y_b."""
     out[j, 0] = t
     out[j, 1] = f_d
     out[j, 2] = f_x
@@ -70,7 +71,7 @@ def coupled_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_the
         if not (math.sqrt(f_x * f_x + f_y * f_y) <= f_max and math.isfinite(f_d)):
             return i
         if i >= full_from or i % stride == 0:
-            _record(out, j, t, f_d, f_x, f_y, x, y, xb, yb)
+            record_row(out, j, t, f_d, f_x, f_y, x, y, xb, yb)
             j += 1
     return 0
 

@@ -11,11 +11,11 @@ import math
 import numpy as np
 
 from ..core.base_motion import base_displacement
-from ..core.friction import divergence_force
+from ..core.law_limits import divergence_force
 from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolution_steps
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
-from .coupled import _record, check_finished
+from .coupled import record_row, check_finished
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -41,7 +41,7 @@ def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, F_N, state, p
         if not abs(f) <= f_max:
             return i
         if i >= full_from or i % stride == 0:
-            _record(out, j, t, f_d, f, 0.0, x, 0.0, x_b, 0.0)
+            record_row(out, j, t, f_d, f, 0.0, x, 0.0, x_b, 0.0)
             j += 1
     return 0
 

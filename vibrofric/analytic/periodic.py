@@ -35,7 +35,7 @@ from time import perf_counter
 import numpy as np
 
 from ..core.base_motion import base_displacement, vibration_axis
-from ..core.friction import divergence_force
+from ..core.law_limits import divergence_force
 from ..core.series import PLOT_CYCLES, TimeSeries
 from ..core.shooting import STABLE, Orbit, cycle_steps, instability
 from ..friction_law import law_kernel

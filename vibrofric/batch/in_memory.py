@@ -8,14 +8,14 @@ writes each point as it ends and resumes an interrupted sweep.
 from tqdm import tqdm
 
 from ..analytic.continuation import chunks, run_in_sequence
-from ..analytic.run import run
+from ..analytic.solve import solve
 from ..grid import grid_points
 from ..parallel import default_workers, run_on_pool
 
 
 def run_point(scene, values: dict) -> dict:
     """One grid point: its values followed by the summary of its analytic run."""
-    _, summary = run(scene.with_values(values))
+    _, summary = solve(scene.with_values(values))
     return {**values, **summary}
 
 

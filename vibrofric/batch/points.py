@@ -86,9 +86,9 @@ def _run_analytic(scene, directory: Path) -> dict:
     """The analytic stepper: only scene.toml and the summary are kept, as a
     125-point sweep takes seconds (``vibrofric analytic`` on the point's
     scene.toml gives the time series and plots)."""
-    from ..analytic.run import run
+    from ..analytic.solve import solve
 
-    _, summary = run(scene)
+    _, summary = solve(scene)
     output.write_scene(directory, scene)
     return {"result": summary}
 
@@ -100,7 +100,7 @@ def _run_fe(scene, directory: Path) -> dict:
     (the Fig 12 study: 123 s with them, 108 s without; every F_dv/F_d0 moved
     by at most 4e-8 of itself, as the set-up's products round differently)."""
     from ..fem.linalg import one_blas_thread
-    from ..runs import fe_beside_analytic
+    from ..fe_beside_analytic import fe_beside_analytic
 
     with one_blas_thread():
         done = fe_beside_analytic(scene, directory)

@@ -31,12 +31,12 @@ friction subroutine (docs/model.md section 5). One physical idea per module:
     periodic     the steady cycle directly (time.method periodic / auto): shooting on it
     energy       the energy balance of an implicit run (fem.energy)
     trouble      numerical trouble: the per-step checks and their messages
-    paraview     the .pvd frame series (DOLFINx VTKFile)
-    run          run_fe(scene, comm, vtk_dir, progress, start) -> FEResult
+    paraview     the .pvd frame series (meshio, from the model's arrays)
+    simulate     run_fe(scene, comm, vtk_dir, progress, start) -> FEResult: one FE run
 
 Only dolfinx_adapter imports DOLFINx, UFL and petsc4py.
 """
 
-from .run import FEResult, run_fe
+from .simulate import FEResult, run_fe
 
 __all__ = ["FEResult", "run_fe"]

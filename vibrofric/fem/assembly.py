@@ -19,7 +19,7 @@ from . import dolfinx_adapter
 
 @dataclass
 class Discretization:
-    """The block as plain arrays (and, for output only, the DOLFINx space).
+    """The block as plain arrays.
 
     level        the mesh level it was built on
     coordinates  (nodes, 3) node positions of the undeformed block, m
@@ -27,10 +27,8 @@ class Discretization:
     mass         (3 nodes,) lumped (row-sum) mass of each degree of freedom, kg
     face_area    {face tag: (nodes,) tributary area of each node on that face, m^2}
     volume       m^3
-    space        the DOLFINx vector Q1 space (for ``paraview.FrameWriter``), or None
-                 for a block read from the model cache (model_cache.py): then
-                 ``vector_space(comm)`` loads it with ``load_space`` when a frame is
-                 written
+    cells        (elements, 8) each hexahedron's nodes in VTK's corner order (the
+                 ParaView frames: paraview.py)
     """
 
     level: str
@@ -39,14 +37,7 @@ class Discretization:
     mass: np.ndarray
     face_area: dict
     volume: float
-    space: object = field(default=None, repr=False)
-    load_space: object = field(default=None, repr=False)
-
-    def vector_space(self, comm):
-        """The DOLFINx space, loaded on first use for a block from the model cache."""
-        if self.space is None and self.load_space is not None:
-            self.space = self.load_space(comm)
-        return self.space
+    cells: np.ndarray = field(repr=False)
 
     @property
     def nodes(self) -> int:
@@ -73,4 +64,5 @@ def assemble_block(comm, size, level, E, nu, density, faces) -> Discretization:
     coordinates = dolfinx_adapter.node_coordinates(V)
     assert K.shape == (3 * coordinates.shape[0],) * 2
     return Discretization(level=level, coordinates=coordinates, stiffness=K, mass=mass,
-                          face_area=face_area, volume=dolfinx_adapter.volume(mesh), space=V)
+                          face_area=face_area, volume=dolfinx_adapter.volume(mesh),
+                          cells=dolfinx_adapter.hexahedra(V))

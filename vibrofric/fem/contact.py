@@ -38,7 +38,7 @@ import math
 
 from numba import njit
 
-from ..core.friction import SLIP_PER_STEP
+from ..core.law_limits import SLIP_PER_STEP
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 
@@ -57,7 +57,7 @@ PENALTY_FACTOR = 10.0
 
 # A node whose slip in an explicit step is more than SUBSTEP_ONSET sliding
 # lengths s_c runs the friction law on sub-steps of at most SLIP_PER_STEP s_c
-# (core.friction). The two-phase update's split error grows with the slip a
+# (core.law_limits). The two-phase update's split error grows with the slip a
 # step makes against s_c, which a stiff contact shrinks: at k_t x 100 a 1e-6 s
 # step of the transverse scene (k_v = 20) slides up to 15 s_c, and prescribed
 # sliding gave F_dv/F_d0 0.148 against the lumped stepper's 0.181 (0.1808 with

@@ -4,7 +4,7 @@ displacements, and the iteration that makes them consistent with the step
 implicit.py explains why it converges).
 
 Each node's contact over the step is the VFRIC analogue (contact.node_contact,
-the same per-node update as explicit.py) on friction_substeps(scene)
+the same per-node update as explicit.py) on implicit_substeps(scene)
 sub-steps, the base on its exact sinusoid (eq 23), the node at its mean
 velocity over the step.
 """
@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..core.friction import slip_resolving_step
+from ..core.law_limits import slip_resolving_step
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from .contact import node_contact
@@ -42,18 +42,18 @@ FALLBACK_ITERATIONS = 300
 MIN_STEP = 1.0 / 64.0
 STALL_FACTOR = 1e2
 # Nodes below this fraction of their preload's normal force get a Newton step
-# (_newton_correction), with tangents by forward differences of FD_STEP times
+# (newton_correction), with tangents by forward differences of FD_STEP times
 # the node's natural length (its sliding length, its preload penetration).
 CRITICAL = 0.25
 FD_STEP = 1e-4
-# The friction law runs on at least this many sub-steps a vibration cycle (friction_substeps).
+# The friction law runs on at least this many sub-steps a vibration cycle (implicit_substeps).
 SUBSTEPS_PER_CYCLE = 100
 # Refuse a scene whose estimated contraction factor is above this (at 0.5 the
 # iteration needs ~25 steps; beyond, it may not converge).
 MAX_CONTRACTION = 0.5
 # The implicit integrators are trusted to fem.accuracy (for "auto") up to this
 # slip a step at the fastest sliding, in sliding lengths s_c
-# (core.friction.slip_per_step). The paper's scenes at 1e-5 s slide 0.5 s_c
+# (core.law_limits.slip_per_step). The paper's scenes at 1e-5 s slide 0.5 s_c
 # (Fig 7, within 0.05% of explicit) and 1.5 s_c (k_v = 20: 0.25% below explicit,
 # 0.8% above at 120 deg). A stiff contact slides more, and where it rocks the
 # block (the Fig 7 scene's spring drive at k_t x 100) the implicit run was 16%
@@ -84,7 +84,7 @@ class StepStart(NamedTuple):
     base_free: np.ndarray       # (substeps,) the free end's: eta_y dy_b (eq 30)
 
 
-def friction_substeps(scene) -> int:
+def implicit_substeps(scene) -> int:
     """Friction sub-steps per step: enough for SUBSTEPS_PER_CYCLE a vibration cycle.
 
     The friction law is the scene's fastest nonlinearity: its asperity
@@ -98,8 +98,8 @@ def friction_substeps(scene) -> int:
     carries the unresolved, undamped penalty modes' velocities into the slip.)
     And the split of each sub-step into base and body phases errs in
     proportion to the slip a sub-step makes against the sliding length
-    (core.friction.SLIP_PER_STEP), most where the sliding direction turns:
-    so the sub-steps are also at most core.friction.slip_resolving_step.
+    (core.law_limits.SLIP_PER_STEP), most where the sliding direction turns:
+    so the sub-steps are also at most core.law_limits.slip_resolving_step.
     On the coupled scene at k_v = 20, theta = 75 deg, dt = 1e-5 s: with the
     cycle rule alone (3 sub-steps) F_dv was 4.8% below the explicit run at
     2.5e-7 s; with 28 sub-steps it is 0.25% below (at 120 deg +0.8%).
@@ -116,7 +116,7 @@ def still_substeps(scene) -> int:
     There is no sinusoid to follow, no phase 2 to split from phase 1 (the
     free end moves with the base), and the block slides at about the
     drive's v_d: enough sub-steps for SLIP_PER_STEP s_c at v_d, which is
-    friction_substeps' slip rule with v_a = 0. On the Fig 7 scene at
+    implicit_substeps' slip rule with v_a = 0. On the Fig 7 scene at
     dt = 1e-5 s that is 2 where the vibration needs 11, and the 0.3 s reduced
     loop takes 1.15 s instead of 1.34-1.43 s. With the exact Dahl update the
     sub-steps of a steady slide compose: F_dv/F_d0 moved by 2e-13 of itself
@@ -128,7 +128,7 @@ def still_substeps(scene) -> int:
     if scene.drive.v_d <= 0.0:
         return 1
     resting = slip_resolving_step(scene, speed=scene.drive.v_d)   # infinite without friction
-    return min(friction_substeps(scene), max(1, math.ceil(scene.time.dt / resting - 1e-9)))
+    return min(implicit_substeps(scene), max(1, math.ceil(scene.time.dt / resting - 1e-9)))
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
@@ -136,7 +136,7 @@ def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, con
                     penalty_share, area_share, params, dt, c_v, beta, states, state):
     """Contact node c over the step, ending at the trial displacements (qx, qy, qz).
 
-    The friction law runs over the step's sub-steps (friction_substeps): the
+    The friction law runs over the step's sub-steps (implicit_substeps): the
     node moves at its mean velocity over the step, the base along its exact
     sinusoid; the normal force's dashpot sees the velocity interpolated
     between v_n and v_{n+1} (Newmark, from q_{n+1}). The node's law state
@@ -203,7 +203,7 @@ def _contact_space(qc, xa, t, step, contact_dofs, contact, params, drive, scheme
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, scheme, mu_max,
+def newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, scheme, mu_max,
                        states, work):
     """delta: the step of the contact-space fixed point.
 
@@ -281,7 +281,7 @@ def _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, s
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
-def _residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
+def contact_residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
               drive_now, scheme, states, work):
     """Evaluate the contact space at (qc, x_a): fills g, target = y_c + (1 - af) (G g + h F_d)
     and rho = qc - target (work). Returns (F_d, F_hold, sum N, sum F_x, sum F_y, max |rho|,

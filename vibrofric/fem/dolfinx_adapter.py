@@ -1,8 +1,8 @@
-"""DOLFINx behind one door: mesh from gmsh, vector Q1 space, K, lumped M, face areas, VTK frames.
+"""DOLFINx behind one door: mesh from gmsh, vector Q1 space, K, lumped M, face areas, cells.
 
 The only module that imports DOLFINx, UFL, petsc4py and DOLFINx's gmsh bridge.
 Everything it returns is plain numpy / scipy, except the mesh and space handles
-that only come back in here (and the frame writer below). It runs on DOLFINx
+that only come back in here. It runs on DOLFINx
 0.5.2 (Debian bookworm) through 0.11 (PyPI ``dolfinx-solver-real``,
 conda-forge, the Docker images) by detecting what the installed version
 offers, never by reading its version string:
@@ -13,6 +13,7 @@ offers, never by reading its version string:
                       model_to_mesh returns a MeshData object (0.10+) or a
                       (mesh, cell_tags, facet_tags) tuple
     PETSc assembly    dolfinx.fem.petsc, imported explicitly (0.9+ needs it)
+    VTK cells         dolfinx.plot.vtk_mesh (0.7+) else dolfinx.plot.create_vtk_mesh
 
 mpi4py.MPI is imported before DOLFINx: the PyPI wheel finds its MPI library
 only once mpi4py has loaded it.
@@ -187,38 +188,21 @@ def node_coordinates(V) -> np.ndarray:
     return coordinates
 
 
-class VTKSeries:
-    """A .pvd time series of node fields on the vector Q1 space ``V`` (DOLFINx VTKFile).
+# VTK's cell type of a linear hexahedron
+VTK_HEXAHEDRON = 12
 
-    ``fields`` names the fields in the order they are written; those in
-    ``scalars`` are (nodes,) arrays, the others (nodes, 3).
-    """
 
-    def __init__(self, V, comm, path, fields, scalars=()):
-        dolfinx, _, _ = _dolfinx()
-        fem = dolfinx.fem
-        Q, q_to_v = V.sub(0).collapse()
-        self.q_nodes = np.asarray(q_to_v) // 3  # Q dof j sits on node q_to_v[j] // 3
-        self.functions = {name: fem.Function(Q if name in scalars else V, name=name)
-                          for name in fields}
-        self.scalars = set(scalars)
-        self.file = dolfinx.io.VTKFile(comm, str(path), "w")
+def hexahedra(V) -> np.ndarray:
+    """(cells, 8) each cell's nodes (the space's node indices, as node_coordinates
+    orders them) in VTK's order of a hexahedron's corners: the cells of the
+    ParaView frames (fem/paraview.py)."""
+    dolfinx, _, _ = _dolfinx()
+    import dolfinx.plot
 
-    def write(self, values: dict, t: float) -> None:
-        """One frame at time ``t`` from ``values`` {name: array over the nodes}."""
-        for name, function in self.functions.items():
-            if name in self.scalars:
-                function.x.array[:] = values[name][self.q_nodes]
-            else:
-                function.x.array[:] = values[name].ravel()
-        self.file.write_function(list(self.functions.values()), t)
-
-    def close(self) -> None:
-        """Write the .pvd and let DOLFINx's writer go at once: its destructor
-        writes the .pvd again (creating its directory if need be), which must
-        happen before a failed run's directory is removed, not after. (An
-        interrupt may leave the writer in a traceback's frames: output.staged
-        clears them before it removes the directory.)"""
-        file, self.file = self.file, None
-        if file is not None:
-            file.close()
+    make = getattr(dolfinx.plot, "vtk_mesh", None) or dolfinx.plot.create_vtk_mesh
+    topology, cell_types, points = make(V)
+    assert np.all(np.asarray(cell_types) == VTK_HEXAHEDRON)
+    assert np.array_equal(points, node_coordinates(V))  # its points are the space's nodes
+    cells = np.asarray(topology).reshape(-1, 9)          # [8, n_0 ... n_7] per cell
+    assert np.all(cells[:, 0] == 8)
+    return cells[:, 1:].astype(np.int64)

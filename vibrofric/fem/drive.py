@@ -14,7 +14,7 @@ With drive.mode = "velocity" (prescribed sliding, as the lumped model's
 prescribed mode and the closed-form literature) there is no spring: x_A = v_d t
 exactly (after a start, prescribed_position), and F_d is the constraint's
 force, spread by the same weights (each integrator solves for it: explicit.py,
-contact_solve._residual).
+contact_solve.contact_residual).
 
 Where it attaches (scene drive.attach, docs/model.md section 5):
 

@@ -62,7 +62,7 @@ def penalty_energy(q_z, u0_z, normal0, penalty):
 
 
 @law_kernel(cache=True, error_model="numpy")
-def contact_step(q_old, q_new, contact_dofs, penalty_share, area_share, params,
+def add_contact_work(q_old, q_new, contact_dofs, penalty_share, area_share, params,
                  states_old, states_new, force_old, force_new, normal_old, normal_new,
                  alpha_f, db_x, db_y, beta, dt, sums):
     """Add one step's base work, friction and penalty-dashpot dissipation to ``sums``.

@@ -37,7 +37,7 @@ from ..core.base_motion import base_displacement, vibration_axis
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from ..core.errors import NoEnergyBalance
-from ..core.friction import SLIP_PER_STEP, slip_per_step, sliding_length
+from ..core.law_limits import SLIP_PER_STEP, slip_per_step, sliding_length
 from . import step_cost, trouble
 from .contact import SUBSTEP_ONSET, contact_forces
 from .drive import attachment_position, prescribed_position
@@ -176,7 +176,7 @@ def explicit_steps(first, last, dt,
     return 0, trouble.OK, stop
 
 
-def friction_substeps(scene) -> int:
+def explicit_substeps(scene) -> int:
     """The most friction-law updates a step takes (contact.contact_forces): 1 up to
     SUBSTEP_ONSET s_c of slip a step at the fastest sliding, v_a + v_d, else enough
     for sub-steps of SLIP_PER_STEP s_c."""
@@ -200,7 +200,7 @@ class ExplicitRun(TimeLoop):
             raise NoEnergyBalance("the explicit integrator keeps no energy balance; "
                                            "use fem.integrator = \"implicit\" or \"reduced\"")
         self.scene, self.model = scene, model
-        self.substeps = friction_substeps(scene)
+        self.substeps = explicit_substeps(scene)
         self.info = {"friction_substeps": self.substeps}
 
     @property

@@ -61,7 +61,7 @@ non-contact rows of Z, and the iterations.
 
 The friction law inside the step. f_c(q_c) is each node's contact over the
 step from q_n to the trial q_{n+1}: the VFRIC analogue (contact.node_contact,
-the same per-node update as explicit.py) run on friction_substeps(scene)
+the same per-node update as explicit.py) run on implicit_substeps(scene)
 sub-steps, at least SUBSTEPS_PER_CYCLE a vibration cycle (before the base
 starts, still_substeps: enough for the drive's slide), with the base on
 its exact sinusoid (eq 23) and the node at its mean velocity over the step.
@@ -95,7 +95,7 @@ explicit run. A node that lifts off loses its penalty spring and its
 friction; one whose normal force is small has a tiny Coulomb limit, a
 saturated friction force and a strong pull of N on F (mu dN/dq_z). Those
 critical nodes get a Newton step with their own 3x3 tangents
-(_newton_correction), halved when it does not lower the residual; should the
+(newton_correction), halved when it does not lower the residual; should the
 Newton steps still alternate across a node's contact kink, the plain fixed
 point takes over, and the step is accepted at its best iterate within a
 looser tolerance (STALL_FACTOR) or refused as not converged.
@@ -110,17 +110,17 @@ import scipy.sparse as sp
 
 from ..core.base_motion import base_displacement, vibration_axis
 from ..core.errors import StepTooLong
-from ..core.friction import slip_per_step
+from ..core.law_limits import slip_per_step
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from . import energy, recording, trouble
 from .borrowed import borrowed
 from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRACTION,
                             MAX_ITERATIONS, MIN_STEP, STALL_FACTOR, ContactData, StepStart,
-                            _newton_correction, _residual, friction_substeps,
+                            contact_residual, implicit_substeps, newton_correction,
                             still_substeps)
 from .drive import prescribed_position
-from .energy import contact_step as energy_step, stored as energy_stored
+from .energy import add_contact_work, stored as energy_stored
 from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
 from .linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
 from .recording import COS, SIN, XB, YB, finish_step, keep_step
@@ -284,7 +284,7 @@ class ImplicitRun(TimeLoop):
         t = scene.time
         self.scene, self.model, self.system, self.name = scene, model, system, name
         self.coefficients = coefficients(scene.fem.rho_infinity, t.dt)
-        self.substeps = friction_substeps(scene)
+        self.substeps = implicit_substeps(scene)
         alpha_m, alpha_f, beta_n, gamma, c_m, c_v = self.coefficients
         self.tangent = contact_tangent(model, scene, c_v)
         self.assumed = (model.normal0 > 0.0).astype(float)   # in contact at the preload
@@ -516,7 +516,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         while iterations < max_iterations + FALLBACK_ITERATIONS:
             iterations += 1
             newton = iterations <= max_iterations
-            f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = _residual(
+            f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = contact_residual(
                 qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
                 drive_now, scheme, states, work)
             if residual < best:
@@ -530,8 +530,8 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
                     qc[p] -= factor * delta[p]
                 continue
             if newton:
-                _newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, scheme,
-                                   mu_max, states, work)
+                newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, scheme,
+                                  mu_max, states, work)
             else:
                 for p in range(nc):
                     delta[p] = -rho[p]
@@ -552,7 +552,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             scalars[STALLED] += 1
             qc[:] = qc_best
             x_a = x_a_best
-            f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = _residual(
+            f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = contact_residual(
                 qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
                 drive_now, scheme, states, work)
         scalars[ITER_MAX] = max(scalars[ITER_MAX], iterations)
@@ -586,9 +586,9 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             moved = (prescribed_position(t, v_d) - prescribed_position(t - dt, v_d)
                      if prescribed else v_d * dt)
             sums[energy.W_DRIVE] += (af1 * f_d + alpha_f * f_d_old) * moved
-            energy_step(q, q_new, contact_dofs, penalty_share, area_share, params, states,
-                        trial_state, friction, force_t, normal, normal_t, alpha_f, dx_b,
-                        eta_y * dy_b, beta, dt, sums)
+            add_contact_work(q, q_new, contact_dofs, penalty_share, area_share, params, states,
+                             trial_state, friction, force_t, normal, normal_t, alpha_f, dx_b,
+                             eta_y * dy_b, beta, dt, sums)
         for k in range(n):
             a_new = (q_new[k] - qt[k]) / (beta_n * dt * dt)
             v[k] = vt[k] + gamma * dt * a_new

@@ -33,7 +33,7 @@ The integrators, all driving the same per-node friction law (contact.py):
 """
 
 from ..core.errors import Refusal, StepTooLong
-from ..core.friction import slip_per_step
+from ..core.law_limits import slip_per_step
 from . import step_cost
 from .contact_solve import TRUSTED_SLIP_PER_STEP
 from .explicit import ExplicitRun

@@ -22,8 +22,9 @@ right or never looked up; "the package's version" is its version and the hash
 of its sources (friction_law.contract.package_hash), so an edited package
 builds afresh. Entries are checked and written atomically (disk_cache.py):
 a damaged one is rebuilt, never used; processes building the same entry at
-once build it once. A block read from the cache loads its DOLFINx space only
-if the run writes ParaView frames (assembly.Discretization.vector_space).
+once build it once. The block's entry holds its cells too, from which the
+ParaView frames are written (paraview.py): a run from the cache never loads
+DOLFINx, gmsh or MPI.
 
 The values are the computed arrays stored bit for bit (.npz of float64): a
 run gives the same results with or without the cache.
@@ -45,7 +46,7 @@ from ..friction_law.contract import package_hash
 from . import dolfinx_adapter
 from .assembly import Discretization, assemble_block
 
-FORMAT = 1   # the entries' layout: a change here makes every entry anew
+FORMAT = 2   # the entries' layout: a change here makes every entry anew
 # Entries of each kind kept: the most recently used (a reduction of the "fine" mesh
 # holds its dense basis, ~270 MB; the "coarse" one's ~0.6 MB).
 KEPT_ENTRIES = 12
@@ -107,7 +108,7 @@ def _packed(disc: Discretization, faces) -> dict:
     K = disc.stiffness
     arrays = {"coordinates": disc.coordinates, "K_data": K.data, "K_indices": K.indices,
               "K_indptr": K.indptr, "K_shape": np.array(K.shape), "mass": disc.mass,
-              "volume": disc.volume}
+              "volume": disc.volume, "cells": disc.cells}
     for tag in faces:
         arrays[f"face_{tag}"] = disc.face_area[tag]
     return arrays
@@ -120,21 +121,7 @@ def _unpacked(arrays: dict, level: str, faces) -> Discretization:
     return Discretization(level=level, coordinates=arrays["coordinates"], stiffness=K,
                           mass=arrays["mass"],
                           face_area={tag: arrays[f"face_{tag}"] for tag in faces},
-                          volume=float(arrays["volume"]))
-
-
-def _space_loader(size, level, coordinates):
-    """load_space for a cached block: the mesh read again, its nodes checked against the entry's."""
-
-    def load(comm):
-        mesh, _ = dolfinx_adapter.load_block(dolfinx_adapter.communicator(comm), size, level)
-        V = dolfinx_adapter.vector_space(mesh)
-        if not np.array_equal(dolfinx_adapter.node_coordinates(V), coordinates):
-            raise RuntimeError("the cached FE model's nodes are not the mesh's: clear the "
-                               "cache (make clean-cache) and run again")
-        return V
-
-    return load
+                          volume=float(arrays["volume"]), cells=arrays["cells"])
 
 
 def block(comm, size, level, E, nu, density, faces) -> Discretization:
@@ -143,16 +130,9 @@ def block(comm, size, level, E, nu, density, faces) -> Discretization:
     faces = tuple(faces)
     parts = {"size": [float(s) for s in size], "level": level, "E": float(E), "nu": float(nu),
              "density": float(density), "faces": list(faces), "dolfinx": dolfinx_version()}
-    built = []
 
     def build():
-        built.append(assemble_block(dolfinx_adapter.communicator(comm), size, level, E, nu,
-                                    density, faces))
-        return _packed(built[0], faces)
+        return _packed(assemble_block(dolfinx_adapter.communicator(comm), size, level, E, nu,
+                                      density, faces), faces)
 
-    disc = _unpacked(cached("block", parts, build), level, faces)
-    if built:
-        disc.space = built[0].space    # assembled just now: its space is at hand
-    else:
-        disc.load_space = _space_loader(size, level, disc.coordinates)
-    return disc
+    return _unpacked(cached("block", parts, build), level, faces)

@@ -1,5 +1,4 @@
-"""ParaView output: a .pvd time series of the block's node fields (DOLFINx VTKFile,
-through ``dolfinx_adapter.VTKSeries``).
+"""ParaView output: a .pvd time series of the block's node fields, written with meshio.
 
 Every frame holds, on the mesh's Q1 nodes:
 
@@ -16,24 +15,19 @@ Every frame holds, on the mesh's Q1 nodes:
 (the contact fields are in the XY plane, their Z components 0; paper sign:
 F_i acts on the body as -F_i). The frame time is the simulated time.
 
-DOLFINx 0.5.2's VTKFile writes files that readers mishandle; each frame is
-repaired right after it is written (``repair_frame``):
-
-- the .pvtu lists its one piece once per function written (7 times here), so
-  ParaView and pyvista load the block 7 times over and every sum over the
-  points is 7 times too large: each piece is kept once;
-- a scalar is declared with NumberOfComponents="0" in the .pvtu: set to 1;
-- the .vtu is stamped version "2.2", VTK 9.1's marker for its new node
-  ordering of *higher-order* Lagrange hexahedra (degree 1, written here, is
-  ordered the same either way), which meshio (5.x) refuses: stamped "1.0".
+The files: ``block.pvd`` lists the frames with their times, each frame one
+``blockNNNNNN.vtu`` (VTK's XML unstructured grid, binary): the block's nodes
+(assembly.Discretization.coordinates) and its hexahedra (``cells``, the nodes
+in VTK's order, as DOLFINx's plot module gives them), the fields above as
+point data. What DOLFINx's own VTKFile wrote for the same run holds the same
+points, cells and arrays (tests/test_dolfinx_adapter.py); writing from the
+arrays needs no DOLFINx, so a run from the model cache never loads it.
 """
 
-import re
 from pathlib import Path
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
-
-from .dolfinx_adapter import VTKSeries, communicator
 
 FIELDS = ("displacement", "velocity", "contact_pressure", "friction_traction",
           "friction_force", "asperity_deformation", "slip")
@@ -61,45 +55,35 @@ def node_fields(model, state) -> dict:
 
 
 class FrameWriter:
-    """Writes ``vtk_dir/block.pvd`` (+ .vtu per frame); call with a recording.State."""
+    """Writes ``vtk_dir/block.pvd`` (+ a .vtu per frame); call with a recording.State."""
 
-    def __init__(self, model, comm, vtk_dir):
+    def __init__(self, model, vtk_dir):
+        import meshio  # here: only a run that writes frames needs it
+
+        self.meshio = meshio
         self.model = model
         self.path = Path(vtk_dir) / "block.pvd"
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        comm = communicator(comm)
-        self.series = VTKSeries(model.disc.vector_space(comm), comm, self.path, FIELDS,
-                                scalars=("contact_pressure",))
+        self.times = []
         self.frames = 0
 
     def __call__(self, state) -> None:
-        self.series.write(node_fields(self.model, state), state.t)
-        repair_frame(self.path.parent / f"{self.path.stem}{self.frames:06d}.pvtu")
+        disc = self.model.disc
+        name = f"{self.path.stem}{self.frames:06d}.vtu"
+        mesh = self.meshio.Mesh(disc.coordinates, [("hexahedron", disc.cells)],
+                                point_data=node_fields(self.model, state))
+        self.meshio.write(self.path.parent / name, mesh, file_format="vtu")
+        self.times.append((state.t, name))
         self.frames += 1
 
     def close(self) -> None:
-        self.series.close()
+        """Write the .pvd: the frames written so far, with their times."""
+        self.path.write_text(collection(self.times))
 
 
-def repair_frame(pvtu: Path) -> None:
-    """Fix DOLFINx 0.5.2's defects in one frame's .pvtu and its .vtu pieces (see above).
-
-    A file that does not show them (another DOLFINx) is left as it is.
-    """
-    if not pvtu.exists():
-        return
-    text = pvtu.read_text()
-    pieces = re.findall(r"<Piece [^>]*/>\n?", text)
-    kept = list(dict.fromkeys(pieces))
-    if len(kept) < len(pieces):
-        first = text.index(pieces[0])
-        end = text.rindex(pieces[-1]) + len(pieces[-1])
-        text = text[:first] + "    ".join(kept) + text[end:]
-    text = text.replace('NumberOfComponents="0"', 'NumberOfComponents="1"')
-    pvtu.write_text(text)
-    for source in re.findall(r'<Piece Source="([^"]+)"', text):
-        vtu = pvtu.parent / source
-        content = vtu.read_text()
-        head = content[:200]
-        if 'type="UnstructuredGrid" version="2.2"' in head:
-            vtu.write_text(head.replace('version="2.2"', 'version="1.0"', 1) + content[200:])
+def collection(times) -> str:
+    """A .pvd (ParaView's collection file) of ``times``: [(t, file name)]."""
+    entries = "".join(f'    <DataSet timestep="{float(t)!r}" group="" part="0" file={quoteattr(name)}/>\n'
+                      for t, name in times)
+    return ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
+            + entries + "  </Collection>\n</VTKFile>\n")

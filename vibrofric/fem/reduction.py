@@ -74,7 +74,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from ..core.errors import ReductionFailed
-from ..core.friction import sliding_length
+from ..core.law_limits import sliding_length
 from . import model_cache
 from .generalized_alpha import LinearSystem
 from .implicit import ImplicitRun

@@ -1,6 +1,6 @@
 """What a step of each integrator costs, roughly, for fem.integrator = "auto"."""
 
-from .contact_solve import friction_substeps
+from .contact_solve import implicit_substeps
 from .generalized_alpha import full_system
 
 # What one operation costs, ns (measured on the 2-core development machine;
@@ -30,4 +30,4 @@ def estimated_cost(scene, model) -> float:
     720 DOFs, 2.4 M at 4,455)."""
     system = full_system(model)
     return step_cost(system, FILL * system.size ** 1.5, model.contact_nodes.size,
-                     friction_substeps(scene))
+                     implicit_substeps(scene))

@@ -9,7 +9,7 @@ import math
 from numba import njit
 
 from ..core.errors import NumericalError
-from ..core.friction import DIVERGED
+from ..core.law_limits import DIVERGED
 
 # Codes returned by the time loops, and what they mean.
 OK, NOT_FINITE, FRICTION_DIVERGED, NORMAL_BLOWUP, LIFT_OFF, NOT_CONVERGED = range(6)

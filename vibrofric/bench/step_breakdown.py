@@ -11,7 +11,7 @@ run's own operators, repeated in a compiled loop (best of several passes):
 
 Each part's roofline bound is max(bytes / bandwidth, multiply-adds / rate)
 with this machine's bandwidth at the part's working set and its multiply-add
-rate (vibrofric.core.machine). The friction law has no such bound: it is a chain of
+rate (bench.machine). The friction law has no such bound: it is a chain of
 divisions, square roots and exponentials on a few dozen nodes, latency and
 not throughput; it is reported by its time. The rest of a step (drive, base,
 recording, checks, and for the implicit integrators the iteration's
@@ -19,7 +19,7 @@ bookkeeping) is the measured step less its timed parts.
 
     breakdown(run, step_s, iterations) -> [Part, ...]
 
-``run`` is a prepared integrator (integrators.select), ``step_s`` its measured
+``run`` is a prepared integrator (fem.integrators.select), ``step_s`` its measured
 seconds a step, ``iterations`` its mean contact iterations a step.
 """
 
@@ -29,12 +29,12 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..core import machine
-from ..core.friction import sliding_length
+from ..core.law_limits import sliding_length
 from ..friction_law.contract import FASTMATH
-from .contact import contact_forces
-from .explicit import central_difference, damped_displacement, external_less
-from .linalg import SparseLU, apply, bsr, one_blas_thread, solve
+from ..fem.contact import contact_forces
+from ..fem.explicit import central_difference, damped_displacement, external_less
+from ..fem.linalg import SparseLU, apply, bsr, one_blas_thread, solve
+from . import machine
 
 
 @dataclass

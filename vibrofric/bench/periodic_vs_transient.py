@@ -10,13 +10,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import scene as scene_module
-from .analytic.continuation import run_in_sequence
-from .analytic.periodic import find_orbit, load_cycle
-from .analytic.run import run
-from .core.series import averaging_steps
+from .. import scene as scene_module
+from ..analytic.continuation import run_in_sequence
+from ..analytic.periodic import find_orbit, load_cycle
+from ..analytic.solve import solve
+from ..core.series import averaging_steps
 
-SCENES = Path(__file__).resolve().parent.parent / "scenes"
+SCENES = Path(__file__).resolve().parent.parent / "scenes"  # package data
 FIG12 = [{"vibration.k_v": float(k_v), "vibration.theta_deg": float(theta)}
          for k_v in (2, 3, 4, 6, 20) for theta in np.linspace(0.0, 360.0, 25)]
 
@@ -26,7 +26,7 @@ def settled_steps(scene, answer: float, tolerance: float, T: float = 1.5) -> int
     ``tolerance`` of ``answer`` and stays there, stepped to ``T`` with every row kept."""
     long = scene.with_values({"time.T": T, "time.method": "transient",
                               "time.series_dt": scene.time.dt})
-    series, _ = run(long)
+    series, _ = solve(long)
     window = averaging_steps(long)
     means = np.convolve(series.F_d, np.ones(window) / window, mode="valid")
     off = np.flatnonzero(np.abs(means / answer - 1.0) > tolerance)
@@ -37,9 +37,9 @@ def fig7(tolerances=(1e-4, 1e-6)) -> dict:
     """The Fig 7 scene: the periodic run's steps and solver time beside the transient's."""
     scene = scene_module.load(SCENES / "longitudinal.toml")
     periodic = scene.with_values({"time.method": "periodic"})
-    run(periodic)                                          # compiled, then timed
-    _, answer = run(periodic)
-    _, transient = run(scene)
+    solve(periodic)                                          # compiled, then timed
+    _, answer = solve(periodic)
+    _, transient = solve(scene)
     t_on_steps = int(round(scene.vibration.t_on / scene.time.dt))
     settled = {tol: settled_steps(scene, answer["F_dv"], tol) for tol in tolerances}
     return {"periodic_steps": answer["steps"], "periodic_solver_s": answer["wall_time_s"],
@@ -78,8 +78,8 @@ def steps_per_cycle(dts=(1e-6, 5e-7, 2.5e-7)) -> list:
     rows = []
     for dt in dts:
         point = scene.with_values({"time.dt": dt})
-        run(point)
-        _, summary = run(point)
+        solve(point)
+        _, summary = solve(point)
         rows.append((summary["periodic"]["steps_per_cycle"],
                      summary["periodic"]["cycles_integrated"], summary["wall_time_s"]))
     return rows

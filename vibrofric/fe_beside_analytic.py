@@ -9,12 +9,12 @@ from dataclasses import dataclass
 
 from . import output
 from .core.errors import Refusal
-from .core.friction import slip_resolving_step
+from .core.law_limits import slip_resolving_step
 from .core.series import TimeSeries, written
 from .scene import refused
 
 # The analytic stepper beside an FE run takes at most this step, whatever the
-# FE run's, and at most core.friction.slip_resolving_step: the two-phase
+# FE run's, and at most core.law_limits.slip_resolving_step: the two-phase
 # update's error is first order in dt (Fig 7 scene: F_dv/F_d0 -0.65% at 1e-5 s
 # against 1e-6 s, within 3e-5 of 1e-8 s at 1e-6 s; k_v = 20 at 75 deg: -1.1% at
 # 1e-6 s), and an implicit FE run at 1e-5 s is accurate to ~0.2%: compared with
@@ -67,7 +67,7 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
     Raises SceneError (the model's refusal, naming the key) or NumericalError, leaving whatever it wrote
     by then for the caller's output.staged() to drop.
     """
-    from .analytic.run import run
+    from .analytic.solve import solve
     from .analytic.summary import summarize, summarize_orbit
     from .fem import run_fe
 
@@ -77,7 +77,7 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
     except Refusal as refusal:
         raise refused(refusal) from refusal
     beside = analytic_scene(scene)
-    analytic_series, analytic = run(beside)
+    analytic_series, analytic = solve(beside)
     info = fe.info
     answered = info.get("periodic", {}).get("method") == "periodic"
     if answered:    # the steady cycle: its mean, no breakaway, settled (summarize_orbit)

@@ -1,4 +1,5 @@
-"""One analytic run of a scene: the time series and the summary of interface.md."""
+"""Solve a scene with an analytic stepper: the time series and the summary of interface.md
+(stepped through time.T, or the periodic orbit found directly)."""
 
 from time import perf_counter
 
@@ -11,14 +12,14 @@ STEPPERS = {"coupled": run_coupled, "longitudinal": run_longitudinal}
 LOADERS = {"coupled": load_coupled, "longitudinal": load_longitudinal}
 
 
-def run(scene, stepper: str = "coupled", start=None):
+def solve(scene, stepper: str = "coupled", start=None):
     """Integrate ``scene`` with the named stepper; return (TimeSeries, summary dict)
-    (see run_with_orbit)."""
-    series, summary, _ = run_with_orbit(scene, stepper, start)
+    (see solve_with_orbit)."""
+    series, summary, _ = solve_with_orbit(scene, stepper, start)
     return series, summary
 
 
-def run_with_orbit(scene, stepper: str = "coupled", start=None):
+def solve_with_orbit(scene, stepper: str = "coupled", start=None):
     """Integrate ``scene`` with the named stepper; return (TimeSeries, summary dict,
     the periodic orbit's state or None).
 

@@ -1,0 +1,265 @@
+"""Simulate a scene with the FE model: ``run_fe(scene, comm=None, vtk_dir=None) -> FEResult``:
+stepped through time.T, or (time.method periodic / auto) answered by its steady cycle."""
+
+import math
+import time
+from dataclasses import dataclass, field
+
+from ..core.series import RecordPlan, TimeSeries, averaging_steps, full_resolution_steps
+from ..core.shooting import periodic_block
+from ..meshes import level_counts
+from . import integrators, periodic
+from .model import build_model
+from .normal_swing import judge
+from .paraview import FrameWriter, node_fields
+from .recording import COLUMNS, extra_columns
+
+
+@dataclass
+class FEResult:
+    """One FE run.
+
+    series  core.series.TimeSeries: t, F_d, F_x, F_y (summed nodal friction
+            force, paper sign), x, y (attachment nodes' mean displacement since
+            the preload), x_b, y_b, and extra["F_n"] (summed normal reaction),
+            with fem.energy also extra[recording.ENERGY]; the rows the analytic
+            stepper keeps up to the step the run ended at (early steady
+            state: steady.py), so summarize() applies as is
+    info    what the run was and cost (run_info)
+    fields  the node fields at the last step, as in the ParaView frames
+            (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3)
+            and "contact_nodes" (indices)
+    orbit   with time.method "periodic" or "auto": the shooting's core.shooting.Orbit
+            (whether or not it answered: info["periodic"]["method"] says), else None
+    """
+
+    series: TimeSeries
+    info: dict = field(default_factory=dict)
+    fields: dict = field(default_factory=dict, repr=False)
+    orbit: object = None
+
+
+def _communicator(comm):
+    """The run's communicator: None stands for MPI.COMM_SELF, started only when DOLFINx
+    is used (dolfinx_adapter.communicator)."""
+    if comm is None:
+        return None
+    if comm.size > 1:
+        raise ValueError(f"an FE run is serial: got a communicator of {comm.size} processes; "
+                         "run batches as many single-process runs (MPI.COMM_SELF) side by side")
+    return comm
+
+
+@dataclass(frozen=True)
+class Clock:
+    """A run's wall times, s: the set-up (the model, the integrator's factorization or
+    reduction), the time loop alone, and the whole run."""
+
+    setup_s: float
+    loop_s: float
+    wall_s: float
+
+
+def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResult:
+    """Run the scene's finite-element model (docs/model.md section 5).
+
+    comm     an MPI communicator of one process (default MPI.COMM_SELF)
+    vtk_dir  if given and fem.output_every > 0: write vtk_dir/block.pvd, a frame
+             every fem.output_every steps (paraview.py); a run answered by its
+             steady cycle writes periodic.FRAMES_PER_CYCLE + 1 frames of that cycle
+    progress if given, called as progress(t_done_s, t_total_s) every few
+             thousand steps of the time loop (simulated seconds)
+    start    with time.method "periodic" or "auto": a neighbouring point's orbit
+             state (FEResult.orbit.z) to shoot from (sweeps: continuation)
+
+    With time.method "periodic" or "auto" (and vibration) the steady cycle is shot
+    for first (periodic.py); where that does not converge or the orbit is not
+    stable, the scene is stepped through T as with "transient". info["periodic"]
+    (core.shooting.periodic_block) says which answered.
+
+    Raises core.errors.Refusal for a scene the model cannot run, before
+    the first step, and NumericalError for a run that went wrong (NaN, a
+    diverging asperity, the normal force blowing up or ringing). The result's
+    info is run_info's.
+    """
+    start_time = time.perf_counter()
+    comm = _communicator(comm)
+    prepare = integrators.select(scene)
+    model = build_model(scene, comm)
+    orbit = None
+    if scene.time.method != "transient" and scene.vibrated:
+        shot_scene, steps = periodic.periodic_scene(scene)
+        integrator = prepare(shot_scene, model)
+        setup_time = time.perf_counter() - start_time
+        orbit, phi = periodic.find_orbit(integrator, model, steps, start)
+        if orbit.converged and orbit.stable:
+            return _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir,
+                                 start_time, setup_time)
+        if shot_scene is not scene:
+            integrator = prepare(scene, model)
+    else:
+        integrator = prepare(scene, model)
+    setup_time = time.perf_counter() - start_time
+
+    writer = _frame_writer(scene, model, vtk_dir)
+    try:
+        run = _integrate(scene, integrator, writer, progress)
+    finally:
+        if writer is not None:
+            writer.close()
+    series = TimeSeries.from_table(run.table, extra_columns(scene.fem.energy))
+    swing = judge(series.extra["F_n"][-averaging_steps(scene):], scene.time.dt,
+                  scene.vibration.f, scene.contact.F_N, model.beta)
+    clock = Clock(setup_time, run.stats["loop_time_s"], time.perf_counter() - start_time)
+    info = run_info(scene, model, integrator, run.stats, swing, writer, clock)
+    if orbit is not None:
+        info["periodic"] = periodic_block(orbit, scene)
+    return FEResult(series=series, info=info, fields=last_fields(model, run.state), orbit=orbit)
+
+
+def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, start_time,
+                  setup_time) -> FEResult:
+    """The FEResult of a run answered by its steady cycle (``orbit``, shot on
+    ``shot_scene``: the scene at a step that puts a whole number in a cycle): the
+    series the cycle repeated over the last two averaging windows (at least the
+    plotted cycles) ending at time.T, the ParaView frames of one cycle, the fields at
+    its end. Its steps are the cycles the shooting integrated; its loop time the
+    shooting's."""
+    cycles = max(1, math.ceil(full_resolution_steps(shot_scene) / orbit.steps))
+    series = TimeSeries.from_table(periodic.steady_table(orbit, shot_scene, cycles),
+                                   extra_columns(scene.fem.energy))
+    writer = _frame_writer(scene, model, vtk_dir)
+    try:
+        last = periodic.cycle_frames(phi, orbit, writer)
+    finally:
+        if writer is not None:
+            writer.close()
+    f_n = orbit.cycle[:, COLUMNS.index("F_n")]
+    steps = orbit.cycles_integrated * orbit.steps
+    stats = {"steps": steps, "steps_planned": scene.steps, "stopped_early": False,
+             "stop_time_s": None, "saving": 1.0 - steps / scene.steps,
+             "steady_tolerance": scene.time.steady_tolerance,
+             "steady_cycles": scene.time.steady_cycles or scene.averaged_cycles,
+             "steady_change": None,
+             "F_n_min": float(f_n.min()), "F_n_max": float(f_n.max()),
+             "F_n_min_after_t_on": float(f_n.min()), "F_n_max_after_t_on": float(f_n.max())}
+    swing = judge(series.extra["F_n"][-averaging_steps(shot_scene):], shot_scene.time.dt,
+                  scene.vibration.f, scene.contact.F_N, model.beta)
+    clock = Clock(setup_time, orbit.solver_time_s, time.perf_counter() - start_time)
+    info = run_info(shot_scene, model, integrator, stats, swing, writer, clock)
+    info["periodic"] = periodic_block(orbit, scene)
+    return FEResult(series=series, info=info, fields=last_fields(model, last), orbit=orbit)
+
+
+def _frame_writer(scene, model, vtk_dir):
+    """The ParaView frame series the run writes, or None (no vtk_dir, or no frames asked for)."""
+    if vtk_dir is None or scene.fem.output_every <= 0:
+        return None
+    return FrameWriter(model, vtk_dir)
+
+
+def _integrate(scene, integrator, writer, progress):
+    """The integrator's time loop over the steps the analytic stepper's RecordPlan keeps,
+    ``progress`` told in simulated seconds."""
+    plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
+
+    def steps_done(step, steps):
+        progress(step * scene.time.dt, steps * scene.time.dt)
+
+    return integrator.integrate(plan, frame=writer, every=scene.fem.output_every,
+                                progress=None if progress is None else steps_done)
+
+
+def run_info(scene, model, integrator, stats: dict, swing, writer, clock: Clock) -> dict:
+    """What the run was and cost (FEResult.info), in this order:
+
+    model_info's keys; the steps (steps run, steps_planned, stopped_early,
+    stop_time_s: None if it ran to time.T, saving: the fraction of the planned
+    steps not run, steady_tolerance, steady_cycles, steady_change: steady.py);
+    normal_force_info's keys; frames and vtk (the .pvd path or None);
+    setup_time_s, loop_time_s, wall_time_s; what the integrator's set-up reports
+    (implicit.py ImplicitRun.info, reduction.py ReducedRun.info) and its
+    iterations_* statistics.
+    """
+    return {
+        **model_info(scene, model, integrator),
+        **{key: stats[key] for key in STEP_KEYS},
+        **normal_force_info(scene, model, stats, swing),
+        "frames": writer.frames if writer is not None else 0,
+        "vtk": str(writer.path) if writer is not None else None,
+        "setup_time_s": clock.setup_s,
+        "loop_time_s": clock.loop_s,
+        "wall_time_s": clock.wall_s,
+        **integrator.info,
+        **{key: value for key, value in stats.items() if key.startswith("iterations_")},
+    }
+
+
+# The integrators' statistics of the steps run (time_loop, steady.py), as they report them.
+STEP_KEYS = ("steps", "steps_planned", "stopped_early", "stop_time_s", "saving",
+             "steady_tolerance", "steady_cycles", "steady_change")
+
+
+def model_info(scene, model, integrator) -> dict:
+    """The model that ran: mesh, integrator (the one that ran), integrator_requested
+    (fem.integrator), integrator_choice (for "auto": what it picked and why; else None),
+    nodes, dofs, elements, contact_nodes, attach, attach_nodes, density (kg/m^3),
+    block_mass (kg), top_pressure (Pa), penalty (N/m), damping (beta, s), omega_max
+    (rad/s), dt, dt_stable (s; the explicit integrator's limit)."""
+    disc = model.disc
+    return {
+        "mesh": scene.fem.mesh,
+        "integrator": integrator.name,
+        "integrator_requested": scene.fem.integrator,
+        "integrator_choice": integrator.choice,
+        "nodes": disc.nodes,
+        "dofs": disc.dofs,
+        "elements": int(math.prod(level_counts(scene.fem.mesh))),
+        "contact_nodes": int(model.contact_nodes.size),
+        "attach": scene.drive.attach,
+        "attach_nodes": int(model.attach_nodes.size),
+        "density": model.density,
+        "block_mass": model.block_mass,
+        "top_pressure": model.pressure,
+        "penalty": model.penalty,
+        "damping": model.beta,
+        "omega_max": model.omega_max,
+        "dt": scene.time.dt,
+        "dt_stable": model.dt_stable,
+    }
+
+
+def normal_force_info(scene, model, stats: dict, swing) -> dict:
+    """The summed normal force: F_n_static (N, the preload's reaction), F_n_min /
+    F_n_max (every step), F_n_min_after_t_on / F_n_max_after_t_on (every step from
+    vibration.t_on; None without vibration), and the averaging window's as
+    normal_swing.judge found it: F_n_kind ("steady", "rocking" or "transient"; a
+    ringing run raises), F_n_min_window / F_n_max_window, F_n_forced_fraction (the
+    share of the window's swing at harmonics of f), F_n_min_window_end /
+    F_n_max_window_end / F_n_forced_fraction_end (the window's end),
+    F_n_free_frequency_hz (the largest line of the window's swing off the harmonics
+    of f; None where steady)."""
+    return {
+        "F_n_static": float(model.normal0.sum()),
+        "F_n_min": stats["F_n_min"],
+        "F_n_max": stats["F_n_max"],
+        "F_n_min_after_t_on": stats["F_n_min_after_t_on"] if scene.vibrated else None,
+        "F_n_max_after_t_on": stats["F_n_max_after_t_on"] if scene.vibrated else None,
+        "F_n_kind": swing.kind,
+        "F_n_min_window": swing.low,
+        "F_n_max_window": swing.high,
+        "F_n_forced_fraction": swing.forced,
+        "F_n_min_window_end": swing.end_low,
+        "F_n_max_window_end": swing.end_high,
+        "F_n_forced_fraction_end": swing.end_forced,
+        "F_n_free_frequency_hz": swing.free_frequency_hz,
+    }
+
+
+def last_fields(model, state) -> dict:
+    """The node fields at the run's last step, as in the ParaView frames (paraview.FIELDS),
+    with the nodes' "coordinates" and the "contact_nodes" indices."""
+    fields = node_fields(model, state)
+    fields["coordinates"] = model.disc.coordinates
+    fields["contact_nodes"] = model.contact_nodes
+    return fields

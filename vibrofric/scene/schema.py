@@ -1,0 +1,284 @@
+"""What a scene holds: its sections as dataclasses, each key with its default (the
+paper's longitudinal case, docs/model.md section 4), the quantities derived from
+them (docs/model.md section 1), and the ``section.key`` names that address them.
+
+docs/scenes.md's reference tables are generated from these dataclasses (each
+key's type, default and the comment beside it: docs/hooks/scene_reference.py).
+"""
+
+import dataclasses
+import functools
+import math
+import typing
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+from ..friction_law import ContactLaw, load_law
+from ..friction_law.contract import is_law_file
+from .errors import SceneError
+
+
+@dataclass(frozen=True)
+class Body:
+    mass: float = 0.5                      # kg
+    size: tuple = (0.03, 0.04, 0.053)      # m: X (sliding), Y, Z (height)
+    E: float = 209e9                       # Pa
+    nu: float = 0.3
+    density: typing.Optional[float] = None  # kg/m^3; default mass / volume
+    gravity: float = 9.81                  # m/s^2, acting in -Z
+
+
+@dataclass(frozen=True)
+class Contact:
+    """The contact: its friction law and normal load, and the law's parameters.
+
+    The law's parameters come from two places in [contact]:
+
+        [contact]            keys every law of the scene shares (k_t, mu): each must be a
+                             parameter of the chosen law
+        [contact.<law>]      keys for one law only (``law_key``: dahl, lugre, or a law
+                             file's stem), applied only while that law is chosen, over
+                             [contact]'s value of the same key
+
+    so ``--set contact.law=...`` switches the law of any scene: the other laws' tables
+    stay unapplied, and a typo is refused either way. Each parameter is readable as
+    ``contact.<name>`` (friction_law/contract.py).
+    """
+
+    law: str = "dahl"                      # "dahl" | "lugre" | a law file (.py; relative to the
+                                           # scene file) | an importable module
+    F_N: float = 55.0                      # N, total normal reaction
+    eta_y: float = 0.71                    # transverse vibration transfer coefficient (eq 30)
+    parameters: dict = field(default_factory=dict)  # [contact]'s law parameters
+    tables: dict = field(default_factory=dict)      # {law_key: {parameter: value}}
+
+    @property
+    def given(self) -> dict:
+        """The parameters the scene sets for its chosen law: [contact]'s and its own table's."""
+        return {**self.parameters, **self.tables.get(law_key(self.law), {})}
+
+    @property
+    def law_values(self) -> dict:
+        """Every parameter of the law: those the scene sets, the law's defaults for the rest."""
+        return load_law(self.law).values(self.given)
+
+    def __getattr__(self, name):
+        if name.startswith("__") or "parameters" not in self.__dict__:
+            raise AttributeError(name)
+        values = self.law_values
+        if name in values:
+            return values[name]
+        raise AttributeError(f"the contact has no {name!r}: not a parameter of its law")
+
+
+def law_key(name: str) -> str:
+    """The name of a law's own table [contact.<key>]: a built-in's name, a law file's
+    stem, an importable module's last part."""
+    if is_law_file(name):
+        return Path(name).stem
+    return name.rpartition(".")[2]
+
+
+CONTACT_KEYS = ("law", "F_N", "eta_y")     # the model's keys in [contact]; the rest are the law's
+
+
+@dataclass(frozen=True)
+class Drive:
+    k_d: float = 96068.0                   # N/m
+    v_d: float = 5e-4                      # m/s
+    attach: str = "contact-plane"          # "contact-plane" | "front-face" (FE only)
+    mode: str = "spring"                   # "spring" | "velocity"
+
+    @property
+    def prescribed(self) -> bool:
+        """mode "velocity": the attachment moves at exactly v_d, no spring."""
+        return self.mode == "velocity"
+
+
+@dataclass(frozen=True)
+class Vibration:
+    f: float = 4000.0                      # Hz
+    k_v: float = 6.0                       # v_a / v_d; 0 means no vibration
+    theta_deg: float = 0.0                 # angle of the vibration axis to X
+    t_on: float = 0.14                     # s
+
+
+@dataclass(frozen=True)
+class Time:
+    T: float = 1.0                         # s, simulated time
+    dt: float = 1e-6                       # s
+    average_cycles: int = 0                # vibration cycles at the end averaged into F_dv;
+                                           # 0: those nearest one drive-system period
+    series_dt: float = 1e-5                # s, sampling of the written time series
+    steady_tolerance: float = 0.0          # FE: stop once the window-averaged drive force changes
+                                           # by at most this fraction over steady_cycles cycles;
+                                           # 0: run to T (fem/steady.py)
+    steady_cycles: int = 0                 # vibration cycles the settled average must hold;
+                                           # 0: those of the averaging window
+    settle_tolerance: float = 0.005        # a result is "settled" when its drive-force mean moved
+                                           # by at most this fraction between the last two
+                                           # averaging windows (analytic/summary.py)
+    method: str = "transient"              # analytic: "transient" (step through T), "periodic"
+                                           # (the steady cycle by shooting, analytic/periodic.py;
+                                           # stepping where it fails) or "auto" (the same)
+
+
+@dataclass(frozen=True)
+class Fem:
+    mesh: str = "coarse"                   # refinement level, see vibrofric.meshes
+    integrator: str = "explicit"           # "explicit" | "implicit" | "reduced" | "auto"
+                                           # (fem/integrators.py)
+    penalty: typing.Optional[float] = None  # N/m for the whole contact face; default 10 E A / L_z
+    output_every: int = 2000               # steps between ParaView frames; 0: none
+    damping: float = 0.0                   # stiffness-proportional damping beta, s; 0: 6% at the top mode
+    rho_infinity: float = 0.9              # implicit, reduced: generalized-alpha's spectral radius at
+                                           # infinite frequency; 1 = trapezoidal rule (fem/implicit.py)
+    cutoff: float = 12.0                   # reduced: keep the block's fixed-interface modes below
+                                           # cutoff * vibration.f (fem/reduction.py)
+    accuracy: float = 0.01                 # auto: the relative error of F_dv / F_d0 it may trade
+                                           # for speed (fem/integrators.py)
+    energy: bool = False                   # implicit, reduced: record the energy balance
+                                           # (fem/energy.py)
+
+
+SECTIONS = {"body": Body, "contact": Contact, "drive": Drive,
+            "vibration": Vibration, "time": Time, "fem": Fem}
+
+CHOICES = {
+    "drive.attach": ("contact-plane", "front-face"),
+    "drive.mode": ("spring", "velocity"),
+    "fem.integrator": ("explicit", "implicit", "reduced", "auto"),
+    "time.method": ("transient", "periodic", "auto"),
+}
+
+
+@dataclass(frozen=True)
+class Scene:
+    name: str = "scene"
+    body: Body = field(default_factory=Body)
+    contact: Contact = field(default_factory=Contact)
+    drive: Drive = field(default_factory=Drive)
+    vibration: Vibration = field(default_factory=Vibration)
+    time: Time = field(default_factory=Time)
+    fem: Fem = field(default_factory=Fem)
+
+    # Derived quantities (docs/model.md section 1).
+    @functools.cached_property
+    def friction(self) -> ContactLaw:
+        """The contact's friction law with its parameter values (friction_law.ContactLaw)."""
+        c = self.contact
+        law = load_law(c.law)
+        return ContactLaw(law, law.values(c.given), c.F_N)
+
+    @property
+    def law_bounds(self):
+        """What the integrators need of the law at time.dt (friction_law.Bounds)."""
+        return self.friction.bounds(self.time.dt)
+
+    @property
+    def vibrated(self) -> bool:
+        return self.vibration.k_v > 0.0
+
+    @property
+    def omega(self) -> float:
+        return 2.0 * math.pi * self.vibration.f
+
+    @property
+    def v_a(self) -> float:
+        """Velocity amplitude of the base, k_v v_d (eq 27)."""
+        return self.vibration.k_v * self.drive.v_d
+
+    @property
+    def u0(self) -> float:
+        """Displacement amplitude of the base, v_a / w (eq 27)."""
+        return self.v_a / self.omega
+
+    @property
+    def F_c(self) -> float:
+        """The steady sliding force of the law (Dahl: the Coulomb force mu F_N, eq 3)."""
+        return self.law_bounds.friction_coefficient * self.contact.F_N
+
+    @property
+    def mu_max(self) -> float:
+        """The largest friction coefficient the law reaches (LuGre: max(mu, F_s / F_N))."""
+        return self.law_bounds.max_friction_coefficient
+
+    @property
+    def drive_period(self) -> float:
+        """Period of the body on the drive spring, 2 pi sqrt(m / k_d)."""
+        return 2.0 * math.pi * math.sqrt(self.body.mass / self.drive.k_d)
+
+    @property
+    def averaged_cycles(self) -> int:
+        """Whole vibration cycles averaged into F_dv (eqs 40-41).
+
+        By default those nearest one period of the drive system: the undamped
+        body-on-spring oscillation left from breakaway then averages out too.
+        A prescribed-velocity body has no such oscillation: 10 cycles.
+        """
+        if self.time.average_cycles:
+            return self.time.average_cycles
+        if self.drive.prescribed:
+            return 10
+        return max(1, round(self.drive_period * self.vibration.f))
+
+    @property
+    def steps(self) -> int:
+        return int(round(self.time.T / self.time.dt))
+
+    def get(self, key: str):
+        section, name = split_key(key)
+        if "." in name:  # contact.<law>.<parameter>: that law's table
+            law, name = name.split(".")
+            return self.contact.tables.get(law, {}).get(name)
+        return getattr(getattr(self, section), name)
+
+    def with_values(self, values: dict) -> "Scene":
+        """A copy with ``{"section.key": value}`` set and checked."""
+        from .build import from_dict   # (build and keys import this module)
+        from .keys import assign
+
+        raw = to_dict(self)
+        for key, value in values.items():
+            assign(raw, key, value)
+        return from_dict(raw, self.name)
+
+    def with_law(self, law: str, parameters: dict | None = None) -> "Scene":
+        """A copy with another friction law and ``parameters`` for it in its own table;
+        [contact]'s shared keys stay (each must be a parameter of the new law)."""
+        from .build import from_dict
+
+        raw = to_dict(self)
+        raw["contact"]["law"] = law
+        if parameters:
+            raw["contact"][law_key(law)] = {**raw["contact"].get(law_key(law), {}), **parameters}
+        return from_dict(raw, self.name)
+
+
+def split_key(key: str):
+    """(section, name) of a scene key; a [contact] key other than CONTACT_KEYS is a law
+    parameter (``contact.<name>``, or ``contact.<law>.<name>`` in a law's own table),
+    checked against the law when the scene is built (_contact)."""
+    section, _, name = key.partition(".")
+    if section not in SECTIONS:
+        raise SceneError(key, f"unknown section [{section}]; known: {', '.join(SECTIONS)}")
+    if section == "contact" and all(part.isidentifier() for part in name.split(".")) \
+            and name.count(".") <= 1 and name not in ("parameters", "tables"):
+        return section, name
+    if name not in {f.name for f in fields(SECTIONS[section])}:
+        known = ", ".join(f.name for f in fields(SECTIONS[section]) if f.name != "tables")
+        raise SceneError(key, f"unknown key in [{section}]; known: {known}")
+    return section, name
+
+
+def to_dict(scene: Scene) -> dict:
+    """Nested ``{section: {key: value}}`` of every key, unset optionals left out."""
+    out = {}
+    for section in SECTIONS:
+        values = dataclasses.asdict(getattr(scene, section))
+        if section == "contact":
+            values.update(values.pop("parameters"))
+            values.update(values.pop("tables"))
+        out[section] = {k: (list(v) if isinstance(v, tuple) else v)
+                        for k, v in values.items() if v is not None}
+    return out
