@@ -8,6 +8,7 @@ the file system holds afterwards: old or new results whole, nothing hidden left.
 import json
 import os
 import random
+import shutil
 import signal
 import subprocess
 import sys
@@ -251,6 +252,47 @@ def test_out_on_a_mount_point_is_refused_before_any_work(tmp_path, capsys, monke
     err = capsys.readouterr().err
     assert "is a mount point" in err and f"--out {out / 'results'}" in err
     assert list(tmp_path.iterdir()) == [out] and list(out.iterdir()) == []
+
+
+def test_a_bind_mount_of_the_same_file_system_is_found_by_the_kernels_table(tmp_path, capsys,
+                                                                            monkeypatch):
+    """A folder bind-mounted from the same file system has its parent's device, so
+    os.path.ismount misses it (the rename into it then failed with EBUSY after all the
+    work, exit 1, results left hidden beside it); the mount table lists it."""
+    out = tmp_path / "with space"
+    out.mkdir()
+    table = tmp_path / "mountinfo"
+    table.write_text(f"22 1 8:1 / / rw - ext4 /dev/vda rw\n"
+                     f"98 22 8:1 /srv/data {str(out).replace(' ', chr(92) + '040')} rw - ext4 "
+                     f"/dev/vda rw\n")
+    monkeypatch.setattr(output, "MOUNTINFO", table)
+    assert not os.path.ismount(out) and output.is_mount_point(out)
+    for command in (["analytic"], ["sweep", "--grid", "vibration.k_v=2,6"]):
+        assert main([command[0], SCENE, *command[1:], *SHORT, "--out", str(out)]) == EXIT_BAD_INPUT
+        assert "is a mount point" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mountinfo", "with space"]
+    assert list(out.iterdir()) == []
+
+
+@pytest.mark.skipif(os.geteuid() != 0 or not shutil.which("unshare"),
+                    reason="a real bind mount needs root (in a private mount namespace)")
+def test_out_on_a_real_bind_mount_is_refused_before_any_work(tmp_path):
+    """The same with a real bind mount, made in a mount namespace of its own so that
+    nothing outside the test sees it."""
+    source, out = tmp_path / "source", tmp_path / "out"
+    source.mkdir()
+    out.mkdir()
+    cannot_mount = 97
+    script = (f"mount --bind {source} {out} || exit {cannot_mount}; {sys.executable} -m "
+              f"vibrofric.cli analytic {SCENE} {' '.join(SHORT)} --out {out}")
+    done = subprocess.run(["unshare", "-m", "sh", "-c", script], cwd=tmp_path, timeout=600,
+                          env=child_environment(), capture_output=True, text=True)
+    if done.returncode == cannot_mount:
+        pytest.skip(f"cannot bind-mount here: {done.stderr.strip()}")
+    assert done.returncode == EXIT_BAD_INPUT, done.stderr
+    assert "is a mount point" in done.stderr and done.stderr.count("\n") == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "source"]
+    assert list(source.iterdir()) == []
 
 
 # -- 4. damaged sweep points -----------------------------------------------------------------------

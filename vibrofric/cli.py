@@ -92,7 +92,8 @@ def _out_argument(parser, what: str):
 
 
 def _scene_arguments(parser):
-    parser.add_argument("scene", type=Path, help="scene file (TOML)")
+    parser.add_argument("scene", type=Path,
+                        help="scene file (TOML), or a shipped scene: longitudinal, transverse, coupled")
     parser.add_argument("--set", dest="overrides", action="append", default=[],
                         metavar="SECTION.KEY=VALUE", help="override a scene key (repeatable)")
     _out_argument(parser, "results directory")
@@ -191,17 +192,17 @@ def _locked_out(args, command: str):
 
 
 def cmd_analytic(args) -> None:
-    from .plot_worker import PlotProcess, one_blas_thread
+    from .plot_worker import PlotProcess, one_blas_thread, plots_job
 
     with PlotProcess() as plotter:  # first: it imports matplotlib while numba loads here
         with one_blas_thread():  # numpy loads here: no BLAS threads to spin on the other core
             from . import budget
             from . import scene as scene_module
             from .analytic.solve import solve
-            from .api import check_stepper
+            from .api import check_stepper, scene_file
             from .core.series import written
 
-        scene = scene_module.load(args.scene, args.overrides)
+        scene = scene_module.load(scene_file(args.scene), args.overrides)
         check_stepper(scene, args.stepper)
         target, claim = _target(args, "analytic")
         budget.check([scene], fe=False, out=target or Path("results"),
@@ -210,7 +211,7 @@ def cmd_analytic(args) -> None:
         series = written(series, scene, args.full_series)  # the summary is of every kept row
         target = target or output.default_dir(scene.name)
         with output.staged(target, "analytic", claimed=claim) as stage:
-            with plotter.drawing({args.stepper: series}, scene, stage):
+            with plotter.drawing(plots_job({args.stepper: series}, scene, stage)):
                 output.write_scene(stage, scene)
                 output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
                 output.write_timeseries(stage, series)
@@ -248,9 +249,9 @@ def _progress_bar(args, what: str, total: float):
 def cmd_run(args) -> None:
     from . import budget
     from . import scene as scene_module
-    from .api import write_fe_run
+    from .api import scene_file, write_fe_run
 
-    scene = scene_module.load(args.scene, args.overrides)
+    scene = scene_module.load(scene_file(args.scene), args.overrides)
     target, claim = _target(args, "run")
     budget.check([scene], fe=True, out=target or Path("results"), full_series=args.full_series)
     target = target or output.default_dir(scene.name)
@@ -291,10 +292,11 @@ def _periodic_note(summary: dict, label: str = "") -> str:
 
 def cmd_sweep(args) -> int:
     from . import scene as scene_module
+    from .api import scene_file
     from .batch import run_sweep
     from .grid import parse_grid
 
-    scene = scene_module.load(args.scene, args.overrides)
+    scene = scene_module.load(scene_file(args.scene), args.overrides)
     grid = [parse_grid(text) for text in args.grid]
     from .batch import mpi
 

@@ -26,6 +26,7 @@ import fcntl
 import gc
 import json
 import os
+import re
 import shutil
 import signal
 import sys
@@ -81,6 +82,32 @@ def existing_ancestor(path: Path) -> Path:
     return path
 
 
+# The kernel's table of this process's mounts (Linux): one line a mount, its mount
+# point the fifth field, with space, tab, newline and backslash written as \ooo.
+MOUNTINFO = Path("/proc/self/mountinfo")
+
+
+def mount_points() -> set:
+    """Every mount point MOUNTINFO lists (empty where there is none)."""
+    try:
+        lines = MOUNTINFO.read_text(errors="surrogateescape").splitlines()
+    except OSError:
+        return set()
+    points = set()
+    for line in lines:
+        fields = line.split(" ")
+        if len(fields) > 4:
+            points.add(re.sub(r"\\([0-7]{3})", lambda code: chr(int(code[1], 8)), fields[4]))
+    return points
+
+
+def is_mount_point(path: Path) -> bool:
+    """Whether ``path`` (resolved) is a mount point. os.path.ismount compares devices
+    and inodes with the parent's, which misses a bind mount of a folder of the same
+    file system (a container's usual output folder): the kernel's own table says."""
+    return os.path.ismount(path) or str(path) in mount_points()
+
+
 def check_target(target: Path, command: str, force: bool = False) -> str:
     """What ``command`` may do with ``target``: "new", "replace" or "resume" (a
     sweep's own directory); raise OutputError if it may do nothing (see the module)."""
@@ -90,7 +117,7 @@ def check_target(target: Path, command: str, force: bool = False) -> str:
     if target.name in ("", ".", "..") or resolved == here or resolved in here.parents:
         raise OutputError(f"--out {target}: the current directory or one above it; "
                           "name a new directory for the results")
-    if resolved.is_dir() and os.path.ismount(resolved):
+    if resolved.is_dir() and is_mount_point(resolved):
         raise OutputError(f"--out {target}: is a mount point, which results (moved into place "
                           "whole by a rename) cannot replace; nothing was touched: name a new "
                           f"directory inside it, e.g. --out {target / 'results'}")
