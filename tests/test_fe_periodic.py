@@ -100,3 +100,51 @@ def test_vibrofric_run_reports_the_block_and_writes_one_steady_cycle(tmp_path, c
     assert len(frames) == periodic.FRAMES_PER_CYCLE + 1
     series = np.genfromtxt(out / "timeseries.csv", delimiter=",", names=True)
     assert series["t"][-1] == pytest.approx(0.3)
+
+
+# --- sweeps by continuation (vibrofric sweep) -----------------------------------------------
+
+def _sweep(out, *more):
+    import subprocess
+    import sys
+
+    from conftest import ROOT, child_environment
+    args = [sys.executable, "-m", "vibrofric.cli", "sweep", LONGITUDINAL, "--json", "--out", str(out),
+            *more]
+    return subprocess.run(args, env=child_environment(), cwd=ROOT, capture_output=True,
+                          text=True, timeout=600)
+
+
+def _points(out) -> dict:
+    return {p.parent.name: json.loads(p.read_text())
+            for p in (out / "points").glob("*/summary.json")}
+
+
+@pytest.mark.slow
+def test_an_fe_sweep_continues_from_the_neighbours_orbit_and_says_which_method_ran(tmp_path):
+    """An FE sweep with time.method periodic (reduced, 4 points on one worker): every
+    point after the first starts from its neighbour's orbit, each says which method
+    answered, and each equals its own shot from steady sliding within 1e-6 (the Newton
+    tolerance's reach; measured ~1e-8). A rerun reuses every point (resumable)."""
+    out = tmp_path / "sweep"
+    settings = ["--set", 'fem.integrator="reduced"', "--set", "time.dt=1e-5",
+                "--set", 'time.method="periodic"', "--set", "fem.output_every=0",
+                "--set", "time.T=0.3", "--grid", "vibration.k_v=4,5,6,7", "--fe",
+                "--workers", "1"]
+    done = _sweep(out, *settings)
+    assert done.returncode == 0, done.stderr
+    points = _points(out)
+    blocks = {name: s["result"]["fe"]["periodic"] for name, s in points.items()}
+    assert all(b["method"] == "periodic" for b in blocks.values())
+    by_kv = sorted(blocks, key=lambda n: float(n.split("=")[1]))
+    starts = [blocks[name]["start"] for name in by_kv]
+    assert starts == ["steady sliding", "neighbour", "neighbour", "neighbour"]
+    assert all((out / "points" / name / "orbit.npy").is_file() for name in points)
+    # the same point shot on its own from steady sliding
+    alone = run_fe(scene_module.load(LONGITUDINAL).with_values(
+        {"fem.integrator": "reduced", "time.dt": 1e-5, "time.method": "periodic",
+         "fem.output_every": 0, "time.T": 0.3, "vibration.k_v": 7}))
+    assert points[by_kv[-1]]["result"]["fe"]["F_dv"] == pytest.approx(
+        float(np.mean(alone.orbit.cycle[:, 1])), rel=1e-6)
+    again = _sweep(out, *settings)
+    assert again.returncode == 0 and "4 reused" in again.stderr + again.stdout

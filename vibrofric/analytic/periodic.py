@@ -340,7 +340,8 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
     if converged and not stable:
         reason = instability(multipliers, STABLE)
     return Orbit(converged, stable, z, cycle, iterations, phi.cycles, norm, multipliers,
-                 phi.dt, phi.steps, perf_counter() - begin, reason)
+                 phi.dt, phi.steps, perf_counter() - begin, reason,
+                 {"start": "steady sliding" if start is None else "neighbour"})
 
 
 def load_cycle(scene, stepper: str = "coupled") -> None:

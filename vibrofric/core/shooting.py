@@ -79,6 +79,8 @@ class Orbit:
     floquet              the multipliers, largest modulus first (FE: the largest few)
     dt, steps            the step used and steps in a cycle
     solver_time_s        the shooting's wall time (compiled code loaded before)
+    reason               why it is not the answer ("" where it is)
+    extra                {"start": "steady sliding" or "neighbour" (a sweep's continuation)}
     """
 
     converged: bool
@@ -124,6 +126,7 @@ def periodic_block(orbit, scene) -> dict:
             "dt": float(orbit.dt),
             "dt_adjusted": bool(orbit.dt != scene.time.dt),
             "steps_per_cycle": orbit.steps,
+            "start": orbit.extra.get("start", "steady sliding"),
             "reason": orbit.reason}
 
 

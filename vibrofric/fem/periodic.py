@@ -92,7 +92,7 @@ def find_orbit(run, model, steps: int, start: np.ndarray | None = None):
     orbit = Orbit(shot.converged, stable, z, cycle, shot.iterations, cycles,
                   shot.residual, multipliers, scene.time.dt, steps,
                   perf_counter() - begin, reason)
-    orbit.extra["start"] = "neighbour" if not fresh else "steady sliding"
+    orbit.extra["start"] = "steady sliding" if fresh else "neighbour"
     return orbit, phi
 
 
