@@ -216,13 +216,7 @@ def cmd_analytic(args) -> None:
                 output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
                 output.write_timeseries(stage, series)
     _warn_unsettled(summary)
-    periodic = summary.get("periodic")
-    if periodic and periodic["method"] == "transient" and periodic["reason"]:
-        print(f"warning: no periodic steady state: {periodic['reason']}; stepped through "
-              "time.T instead", file=sys.stderr)
-    how = (f" (periodic: {periodic['cycles_integrated']} cycles, largest Floquet multiplier "
-           f"{periodic['floquet_max_modulus']:.4f})" if periodic and periodic["method"] == "periodic"
-           else "")
+    how = _periodic_note(summary)
     _emit(args, {**summary, "out": str(target)},
           f"F_dv/F_d0 = {_number(summary['F_dv_over_F_d0'])} (F_dv = {summary['F_dv']:.4f} N, "
           f"F_d0 = {summary['F_d0']:.4f} N) in {summary['wall_time_s']:.3f} s{how}; "
@@ -271,11 +265,29 @@ def cmd_run(args) -> None:
     _warn_unsettled(fe, "FE")
     _warn_unsettled(analytic, "analytic")
     settled = (f", settled at {fe['stop_time_s']:g} s, {fe['saving']:.0%} of the steps saved"
-               if fe["stopped_early"] else "")
+               if fe["stopped_early"] else "") + _periodic_note(fe, "FE ")
     _emit(args, document,
           f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['integrator']}, {fe['dofs']} DOFs, "
           f"{fe['wall_time_s']:.1f} s{settled}), analytic {_number(analytic['F_dv_over_F_d0'])}; "
           f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}")
+
+
+def _periodic_note(summary: dict, label: str = "") -> str:
+    """The answer's note on the periodic solver (time.method periodic or auto): where it
+    answered, its cycles and largest Floquet multiplier; where it did not, a warning
+    on stderr saying why the run was stepped."""
+    periodic = summary.get("periodic")
+    if not periodic:
+        return ""
+    if periodic["method"] == "transient":
+        if periodic["reason"]:
+            print(f"warning: no {label}periodic steady state: {periodic['reason']}; stepped "
+                  "through time.T instead", file=sys.stderr)
+        return ""
+    adjusted = (f", at dt = {periodic['dt']:.6g} s for {periodic['steps_per_cycle']} steps a cycle"
+                if periodic.get("dt_adjusted") else "")
+    return (f" (periodic: {periodic['cycles_integrated']} cycles, largest Floquet multiplier "
+            f"{periodic['floquet_max_modulus']:.4f}{adjusted})")
 
 
 def cmd_sweep(args) -> int:
