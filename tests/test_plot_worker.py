@@ -29,8 +29,8 @@ def started(monkeypatch):
     processes = []
 
     class Recorded(plot_worker.PlotProcess):
-        def __init__(self):
-            super().__init__()
+        def __init__(self, *args):
+            super().__init__(*args)
             processes.append(self.process)
 
     monkeypatch.setattr(plot_worker, "PlotProcess", Recorded)
@@ -47,6 +47,20 @@ def test_plots_are_those_drawn_in_one_process(tmp_path, started):
     plots.friction_last_cycles(runs, scene, tmp_path / "friction_last_cycles.png")
     for name in ("drive_force.png", "friction_last_cycles.png"):
         assert (out / name).read_bytes() == (tmp_path / name).read_bytes(), name
+
+
+def test_the_friction_legend_leaves_the_axes_clear():
+    """The friction curves sweep the axes' whole height every cycle: any legend inside
+    would cover one. Its box lies wholly below the axes (and inside the figure)."""
+    scene = scene_module.load(SCENES / "transverse.toml", ["time.T=0.2"])
+    series = written(solve(scene)[0], scene)
+    fig = plots.friction_last_cycles_figure({"FE": series, "analytic": series}, scene)
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    legend = ax.get_legend().get_window_extent(renderer)
+    lowest = min(ax.get_window_extent(renderer).y0,             # the axes, their tick labels
+                 ax.xaxis.get_tightbbox(renderer).y0)           # and the x label
+    assert legend.y1 <= lowest and legend.y0 >= 0.0
 
 
 @pytest.fixture(autouse=True)
@@ -126,3 +140,41 @@ def test_the_plot_process_imports_matplotlib_not_numba(tmp_path):
     loaded = {name.split(".")[0] for name in child.stdout.split()}
     assert "matplotlib" in loaded
     assert loaded.isdisjoint({"numba", "llvmlite", "scipy", "dolfinx", "mpi4py", "gmsh"})
+
+
+def test_an_fe_runs_plots_are_those_drawn_in_one_process(tmp_path):
+    """The "fe" kind (vibrofric run): its three plots as drawn in one process; the
+    FE series here is the stepper's with a normal force added (any TimeSeries with
+    extra["F_n"] is drawn the same way)."""
+    import numpy as np
+
+    scene = scene_module.load(LONGITUDINAL, ["time.T=0.2"])
+    analytic = written(solve(scene)[0], scene)
+    fe = written(solve(scene)[0], scene)
+    fe.extra["F_n"] = scene.contact.F_N * (1.0 + 0.01 * np.sin(2e4 * fe.t))
+    runs = {"FE": fe, "analytic": analytic}
+    child, one = tmp_path / "child", tmp_path / "one"
+    child.mkdir()
+    one.mkdir()
+    with plot_worker.PlotProcess("fe") as plotter:
+        with plotter.drawing(plot_worker.plots_job(runs, scene, child, fe=fe)):
+            pass
+    plots.drive_force_history(runs, scene, one / plot_worker.DRIVE_FORCE)
+    plots.friction_last_cycles(runs, scene, one / plot_worker.LAST_CYCLES)
+    plots.normal_force_history(fe, scene, one / plot_worker.NORMAL_FORCE)
+    for name in (plot_worker.DRIVE_FORCE, plot_worker.LAST_CYCLES, plot_worker.NORMAL_FORCE):
+        assert (child / name).read_bytes() == (one / name).read_bytes(), name
+
+
+def test_the_picture_process_imports_pyvista_not_the_fe_stack(tmp_path):
+    """The "picture" kind gets ready (pyvista, its renderer) in a process without DOLFINx,
+    in which VTK's renderer would abort."""
+    pytest.importorskip("pyvista")
+    child = subprocess.run(
+        [sys.executable, "-c", "import sys; from vibrofric import picture; picture.warm_up(); "
+                               "print(' '.join(sys.modules))"],
+        capture_output=True, text=True, cwd=tmp_path, env=child_environment(), timeout=120)
+    assert child.returncode == 0, child.stderr
+    loaded = {name.split(".")[0] for name in child.stdout.split()}
+    assert "pyvista" in loaded
+    assert loaded.isdisjoint({"numba", "dolfinx", "mpi4py", "petsc4py", "gmsh"})

@@ -48,6 +48,26 @@ def _scene_path(name: str) -> Path:
     return Path(str(resources.files("vibrofric") / "scenes" / f"{name}{SCENE_SUFFIX}"))
 
 
+def scene_file(source: str | Path) -> Path:
+    """The scene file ``source`` names: a file, or a shipped scene by name (scene_names()),
+    so that ``vibrofric analytic longitudinal`` runs from an installed package too.
+
+    Raises SceneError for a bare name that is neither a file here nor a shipped scene.
+
+    >>> scene_file("transverse").name
+    'transverse.toml'
+    """
+    from . import scene as scene_module
+
+    path = Path(source)
+    if path.exists() or path.parent != Path(".") or path.suffix != "":
+        return path
+    if path.name not in scene_names():
+        raise scene_module.SceneError(
+            str(source), f"no such scene file, nor a shipped scene ({', '.join(scene_names())})")
+    return _scene_path(path.name)
+
+
 def _key(name: str) -> str:
     """``time__T`` (a keyword argument) or ``time.T``: the scene key ``time.T``."""
     return name.replace("__", ".", 1) if "." not in name else name
@@ -84,13 +104,7 @@ def load_scene(source: str | Path | Mapping | "Scene" = "longitudinal", **overri
     elif isinstance(source, Mapping):
         scene = scene_module.from_dict({section: dict(values) for section, values in source.items()})
     else:
-        path = Path(source)
-        if not path.exists() and path.parent == Path(".") and path.suffix == "":
-            if path.name not in scene_names():
-                raise scene_module.SceneError(
-                    str(source), f"no such scene file, nor a shipped scene ({', '.join(scene_names())})")
-            path = _scene_path(path.name)
-        scene = scene_module.load(path)
+        scene = scene_module.load(scene_file(source))
     values = {_key(name): value for name, value in overrides.items()}
     if "contact.law" in values:  # another law: the present one's parameters kept where it has them
         law = values.pop("contact.law")
@@ -225,19 +239,25 @@ def write_fe_run(scene: "Scene", stage: Path, progress: Callable[[float, float],
     ``vibrofric run`` writes it (its files, summary.json, plots and the block's
     picture). Returns (document, FEBesideAnalytic): document is the command's
     JSON, with "out" where ``out`` is given."""
-    from . import output, plots
-    from .picture import block_picture
-    from .fe_beside_analytic import fe_beside_analytic
+    from contextlib import ExitStack
 
-    done = fe_beside_analytic(scene, stage, progress=progress, full_series=full_series)
-    document = {**done.document, "out": out} if out is not None else done.document
-    output.write_summary(stage, {**document, "fe_info": done.fe_info})
-    runs = {"FE": done.fe.series, "analytic": done.analytic_series}
-    plots.drive_force_history(runs, scene, stage / "drive_force.png")
-    plots.friction_last_cycles(runs, scene, stage / "friction_last_cycles.png")
-    plots.normal_force_history(done.fe.series, scene, stage / "normal_force.png")
-    if done.fe_info["frames"]:
-        block_picture(stage / "paraview" / "block.pvd", stage / "block.png")
+    from . import output
+    from .fe_beside_analytic import fe_beside_analytic
+    from .plot_worker import PlotProcess, picture_job, plots_job
+
+    with ExitStack() as children:
+        # started first: they import matplotlib and pyvista while the FE run goes on
+        plotter = children.enter_context(PlotProcess("fe"))
+        painter = (children.enter_context(PlotProcess("picture"))
+                   if scene.fem.output_every > 0 else None)
+        done = fe_beside_analytic(scene, stage, progress=progress, full_series=full_series)
+        document = {**done.document, "out": out} if out is not None else done.document
+        runs = {"FE": done.fe.series, "analytic": done.analytic_series}
+        children.enter_context(plotter.drawing(plots_job(runs, scene, stage, fe=done.fe.series)))
+        if done.fe_info["frames"]:
+            children.enter_context(painter.drawing(picture_job(stage / "paraview" / "block.pvd",
+                                                               stage / "block.png")))
+        output.write_summary(stage, {**document, "fe_info": done.fe_info})
     return document, done
 
 

@@ -4,21 +4,28 @@ The contact face coloured by contact pressure, with the friction traction as
 arrows, inside the block drawn translucent.
 
 VTK's renderer aborts (std::bad_alloc) in a process that has loaded DOLFINx
-before it, so ``block_picture`` renders in a child process of its own:
-``python -m vibrofric.picture SERIES.pvd PICTURE.png``.
+before it, so the picture is drawn in a child process of its own, one that
+``vibrofric run`` starts beside its time loop (plot_worker.py, kind
+"picture"): there ``warm_up`` imports pyvista and sets up the off-screen
+renderer while the run goes on, then ``render`` draws the last frame.
 """
 
 import os
-import subprocess
-import sys
 
 import numpy as np
 
 
-def block_picture(pvd_path, png_path) -> None:
-    """Contact pressure and friction traction of the series' last frame, as PNG."""
-    subprocess.run([sys.executable, "-m", "vibrofric.picture", str(pvd_path), str(png_path)],
-                   check=True, capture_output=True)
+def warm_up() -> None:
+    """Import pyvista and draw a throwaway picture: the off-screen renderer (OSMesa)
+    is set up, and the text's fonts loaded, before the run's picture is drawn."""
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
+    import pyvista as pv
+
+    plotter = pv.Plotter(off_screen=True, window_size=(64, 64))
+    plotter.add_mesh(pv.Cube(), opacity=0.2)
+    plotter.add_text("t", font_size=10)
+    plotter.screenshot(None, return_img=True)
+    plotter.close()
 
 
 def last_frame(pvd_path):
@@ -76,7 +83,3 @@ def _shift_left(camera, fraction: float) -> None:
     width = 2.0 * distance * np.tan(np.radians(camera.view_angle) / 2.0)
     shift = fraction * width * right
     camera.position, camera.focal_point = tuple(position + shift), tuple(focus + shift)
-
-
-if __name__ == "__main__":
-    render(*sys.argv[1:3])

@@ -1,4 +1,4 @@
-"""The analytic command's two plots, drawn by a second process while the stepper loads and runs.
+"""A run's plots and the block's picture, drawn by child processes while the run loads and runs.
 
 Drawn in the command's own process, after the stepping, the plots cost it
 ~0.33 s of a ~0.75 s command: matplotlib imported (~0.19 s), then the two
@@ -14,9 +14,21 @@ while the command writes timeseries.csv:
     with PlotProcess() as plotter:                      # started: importing matplotlib
         ...                                             # scene, stepper, stepping
         with output.staged(target) as stage:
-            with plotter.drawing(runs, scene, stage):   # the rows sent: it draws
+            with plotter.drawing(plots_job(runs, scene, stage)):  # sent: it draws
                 ...                                     # scene.toml, summary.json, the CSV
             # here it has finished; had it failed: PlotError
+
+``vibrofric run`` does the same with two children, started before its FE
+model is set up: one draws its three plots (the two above, FE beside
+analytic, and the FE model's normal force), the other the block's picture
+(picture.py: pyvista, which imports ~0.3 s and sets up its off-screen
+renderer ~0.5 s before the first picture, both while the time loop runs;
+then it reads the last ParaView frame the run wrote and draws it). Drawn
+one after the other in the command's process, after the loop, they took
+~1.8 s of a repeat Fig 7 run (docs/first-answer.md).
+
+The kinds of child (``PlotProcess(kind)``): "analytic" (two plots), "fe"
+(three plots), "picture" (the block's picture).
 
 A failure on either side fails the run and leaves nothing. The child's is
 raised as PlotError (with its traceback) when ``drawing`` ends, inside the
@@ -37,6 +49,8 @@ from types import SimpleNamespace
 
 DRIVE_FORCE = "drive_force.png"
 LAST_CYCLES = "friction_last_cycles.png"
+NORMAL_FORCE = "normal_force.png"
+KINDS = ("analytic", "fe", "picture")
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent  # the directory that holds vibrofric
 # OpenBLAS, loaded with numpy, starts a thread per further core, which spins a while
 # waiting for work. Neither process gives it any, and each needs the other's core
@@ -49,15 +63,17 @@ class PlotError(RuntimeError):
 
 
 class PlotProcess:
-    """The child process that draws a run's two plots (a context manager: the child
-    is started on entry, and ended, if still running, and reaped on exit)."""
+    """The child process that draws a run's plots, or its picture (``kind``, one of
+    KINDS; a context manager: the child is started on entry, and ended, if still
+    running, and reaped on exit)."""
 
-    def __init__(self):
+    def __init__(self, kind: str = "analytic"):
+        assert kind in KINDS, kind
         # -P and PYTHONPATH: the child imports this very package, not one from its
         # working directory
         path = os.pathsep.join(filter(None, [str(PACKAGE_ROOT), os.environ.get("PYTHONPATH")]))
         self.process = subprocess.Popen(
-            [sys.executable, "-P", "-m", __name__], stdin=subprocess.PIPE,
+            [sys.executable, "-P", "-m", __name__, kind], stdin=subprocess.PIPE,
             stdout=subprocess.PIPE, env={**os.environ, "PYTHONPATH": path, **ONE_BLAS_THREAD},
             start_new_session=True)
 
@@ -77,13 +93,10 @@ class PlotProcess:
         self.process.stdout.close()
 
     @contextlib.contextmanager
-    def drawing(self, runs: dict, scene, directory: Path):
-        """Send the rows of ``runs`` (a label to a TimeSeries) that the plots draw;
-        the child draws them into ``directory`` while the block runs. At the
-        block's end wait for the child: PlotError if it failed. If anything
-        fails before, the child is ended and reaped first."""
-        job = {"directory": Path(directory).absolute(), "scene": plotted_scene(scene),
-               **plotted_rows(runs, scene)}
+    def drawing(self, job: dict):
+        """Send ``job`` (plots_job, picture_job); the child draws it while the block
+        runs. At the block's end wait for the child: PlotError if it failed. If
+        anything fails before, the child is ended and reaped first."""
         try:
             self._send(job)
             yield
@@ -121,12 +134,28 @@ def one_blas_thread():
             os.environ.pop(name, None)
 
 
+def plots_job(runs: dict, scene, directory: Path, fe=None) -> dict:
+    """What the plots of ``runs`` (a label to a TimeSeries) draw into ``directory``;
+    with ``fe``, an FE run's TimeSeries, its normal force plot too."""
+    job = {"directory": Path(directory).absolute(), "scene": plotted_scene(scene),
+           **plotted_rows(runs, scene)}
+    if fe is not None:
+        job["normal"] = SimpleNamespace(t=fe.t, extra={"F_n": fe.extra["F_n"]})
+    return job
+
+
+def picture_job(pvd_path: Path, png_path: Path) -> dict:
+    """The block's picture from the last frame of the ParaView series ``pvd_path``."""
+    return {"pvd": Path(pvd_path).absolute(), "png": Path(png_path).absolute()}
+
+
 def plotted_scene(scene) -> SimpleNamespace:
     """The scene's values the run plots read (see plots), as plain values: a Scene
     holds its friction law's module, and unpickled would import numba."""
     vibration = scene.vibration
     return SimpleNamespace(
         name=scene.name, F_c=scene.F_c, vibrated=scene.vibrated,
+        contact=SimpleNamespace(F_N=scene.contact.F_N),
         vibration=SimpleNamespace(f=vibration.f, k_v=vibration.k_v,
                                   theta_deg=vibration.theta_deg, t_on=vibration.t_on))
 
@@ -153,25 +182,35 @@ def warm_up(plots) -> None:
     fig.canvas.draw()
 
 
-def serve() -> None:
-    """The child: import matplotlib, warm up, then draw the job the command sends
-    on stdin; nothing to draw if stdin closes first."""
-    from . import plots
+def serve(kind: str) -> None:
+    """The child: import matplotlib (or pyvista), warm up, then draw the job the
+    command sends on stdin; nothing to draw if stdin closes first."""
+    if kind == "picture":
+        from . import picture
 
-    warm_up(plots)
+        picture.warm_up()
+    else:
+        from . import plots
+
+        warm_up(plots)
     try:
         job = pickle.load(sys.stdin.buffer)
     except EOFError:
         return
+    if kind == "picture":
+        picture.render(job["pvd"], job["png"])
+        return
     directory = job["directory"]
     plots.drive_force_history(job["whole"], job["scene"], directory / DRIVE_FORCE)
     plots.friction_last_cycles(job["last_cycles"], job["scene"], directory / LAST_CYCLES)
+    if "normal" in job:
+        plots.normal_force_history(job["normal"], job["scene"], directory / NORMAL_FORCE)
 
 
 if __name__ == "__main__":
     code = 0
     try:
-        serve()
+        serve(sys.argv[1] if len(sys.argv) > 1 else "analytic")
     except BaseException:  # reported to the command through stdout, which it reads
         import traceback
 

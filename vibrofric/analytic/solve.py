@@ -1,4 +1,4 @@
-"""Solve a scene with an analytic stepper: the time series and the summary of interface.md
+"""Solve a scene with an analytic stepper: the time series and the summary (summary.json, docs/command-line.md)
 (stepped through time.T, or the periodic orbit found directly)."""
 
 from time import perf_counter

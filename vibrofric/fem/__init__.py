@@ -26,10 +26,13 @@ friction subroutine (docs/model.md section 5). One physical idea per module:
     integrators  the registry fem.integrator selects from, and "auto"
     recording    the recorded rows (a run may end early), the run's end state
     steady       early steady state: stop once the cycle-averaged F_d has settled
+    cycle_map    one base cycle of an integrator's compiled step as a map of its state,
+                 in the drive's frame, its unrestrained rigid motions gauged out
+    periodic     the steady cycle directly (time.method periodic / auto): shooting on it
     energy       the energy balance of an implicit run (fem.energy)
     trouble      numerical trouble: the per-step checks and their messages
     paraview     the .pvd frame series (meshio, from the model's arrays)
-    simulate     run_fe(scene, comm, vtk_dir, progress) -> FEResult: one FE run
+    simulate     run_fe(scene, comm, vtk_dir, progress, start) -> FEResult: one FE run
 
 Only dolfinx_adapter imports DOLFINx, UFL and petsc4py.
 """

@@ -248,4 +248,10 @@ class ExplicitRun(TimeLoop):
         def steps(first, last):
             return kernel(*arguments(first, last))
 
-        return Started(steps, lambda: (u, v))
+        def rigid(motion):
+            # u and the contact nodes' last displacements move; v and vel_z (rewritten
+            # every step) stay
+            return {"u": motion.copy(), "v": np.zeros(dofs),
+                    "disp": motion.reshape(-1, 3)[model.contact_nodes].copy()}
+
+        return Started(steps, lambda: (u, v), {"u": u, "v": v, "disp": disp}, rigid)

@@ -278,6 +278,7 @@ class ImplicitRun(TimeLoop):
     """
 
     extra_scalars = 5  # F_D, ITER_MAX, ITER_SUM, STALLED, F_HOLD
+    iteration_tolerance = ITERATION_TOLERANCE   # the contact iteration's, relative (contact_solve)
 
     def __init__(self, scene, model, system: LinearSystem, name="implicit"):
         t = scene.time
@@ -378,7 +379,7 @@ class ImplicitRun(TimeLoop):
                             self.tangent, self.assumed)
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
         scheme = Scheme(dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
-                        ITERATION_TOLERANCE * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
+                        self.iteration_tolerance * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
                         still_substeps(scene))
         drive = Drive(scene.drive.k_d, scene.drive.v_d, self.prescribed)
         limits = Limits(c.F_N, scene.mu_max)
@@ -393,7 +394,19 @@ class ImplicitRun(TimeLoop):
         def steps(first, last):
             return kernel(*arguments(first, last))
 
-        return Started(steps, lambda: (model.u0 + system.expand(q), system.expand(v)))
+        tangent = self.tangent
+
+        def rigid(motion):
+            # q moves by the motion's q; g = f_c + l q_c (contact_solve._contact_g) by l q_c
+            # on the X and Y rows (a motion in the plane: Z and the forces stay)
+            moved = system.rigid(motion)
+            shift = np.zeros_like(g_prev)
+            planar = np.tile([1.0, 1.0, 0.0], contacts)
+            shift[:nc] = tangent * planar * moved[system.contact_dofs.ravel()]
+            return {"q": moved, "v": np.zeros(n), "a": np.zeros(n), "g_prev": shift}
+
+        return Started(steps, lambda: (model.u0 + system.expand(q), system.expand(v)),
+                       {"q": q, "v": v, "a": a, "g_prev": g_prev}, rigid)
 
     def stats(self, scalars, last: int) -> dict:
         return {"iterations_max": int(scalars[ITER_MAX]),

@@ -237,8 +237,17 @@ class Reduction:
         drive_x, drive_y = T.T @ dx, T.T @ dy
         index = np.flatnonzero((drive_x != 0.0) | (drive_y != 0.0))
         contact_dofs = np.arange(self.boundary.size).reshape(-1, 3)
+        boundary = self.boundary
+
+        def rigid(motion):
+            # A rigid motion is static (K annihilates it): its interior is Psi times its
+            # boundary, so q = (its boundary values, no modal amplitudes) reproduces it.
+            q = np.zeros(T.shape[1])
+            q[:boundary.size] = motion[boundary]
+            return q
+
         return LinearSystem(self.mass, self.stiffness, contact_dofs, index,
-                            drive_x[index], drive_y[index], lambda q: T @ q)
+                            drive_x[index], drive_y[index], lambda q: T @ q, rigid)
 
 
 def _linearized_contact(model, k_t) -> np.ndarray:

@@ -52,10 +52,18 @@ class Started:
     steps(first, last) -> (failed step, trouble code, stop step): the compiled
         step over steps first..last, on the arrays start() made
     fields() -> (u, v): the node displacement (with the preload) and velocity now
+    carried  {name: array}: the integrator's own state that the compiled step carries
+        from step to step (beside the ContactState and the scalars); written in
+        place, it sets the state the next ``steps`` call starts from (cycle_map.py)
+    rigid(pattern) -> {name: array}: how each carried array changes when every node
+        moves by the rigid displacement ``pattern`` (dofs,): the drive's translation
+        and the motions nothing restrains, taken out in cycle_map.py
     """
 
     steps: object
     fields: object
+    carried: dict
+    rigid: object
 
 
 class TimeLoop:
