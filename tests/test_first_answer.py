@@ -255,8 +255,8 @@ def test_will_compile_sees_memory_and_disk(tmp_path, monkeypatch):
     scene = scene_module.load(ROOT / "scenes" / "longitudinal.toml").with_law(_new_law(tmp_path, 7))
     law = scene.friction.law
     args = (0.5, 1.0, 1.0, False, 1.0, 1.0, 0.0, 1.0, 0.0, 0.0, 55.0,
-            law.initial_state(1)[0], scene.friction.params, 1e-6, 0, 1, 1, 1.0,
-            np.empty((0, 8)))
+            law.initial_state(1)[0], scene.friction.params, 1e-6, 1, 0, 1, 1, 1.0,
+            np.zeros(11), np.empty((0, 8)))
     dispatcher = coupled_loop.for_law(law)
     assert specialize.will_compile(dispatcher, args)
     load_coupled(scene)

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from ..core.chunks import CHUNK_SECONDS, next_chunk
 from ..core.series import COLUMNS as SERIES_COLUMNS
 from ..core.series import RecordPlan
 from . import trouble
@@ -167,7 +168,6 @@ def finish_step(t, t_on, f_d, f_n, f_x, f_y, x, y, x_b, y_b, friction_magnitude,
 # Ctrl-C is answered. The loops keep all their state in arrays, so where a run
 # is cut into chunks does not change its results.
 PROGRESS_STEPS = 5000
-CHUNK_SECONDS = 0.2
 
 
 def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, onset=0):
@@ -206,12 +206,7 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, 
         called = time.perf_counter()
         stop = advance(first, last)
         took = time.perf_counter() - called
-        if last + 1 == onset:
-            chunk = 1
-        elif took < CHUNK_SECONDS / 2 and last - first + 1 == chunk:
-            chunk *= 2
-        elif took > CHUNK_SECONDS and chunk > 1:
-            chunk //= 2
+        chunk = 1 if last + 1 == onset else next_chunk(chunk, took, last - first + 1)
         if stop:
             last = stop
             break
