@@ -499,7 +499,7 @@ def test_the_run_time_estimate_counts_friction_sub_steps(load_scene):
 def test_the_fe_loop_returns_to_python_in_growing_chunks():
     """run_in_chunks calls the compiled step over chunks that start at one step and
     double while quick: a signal is handled between two calls."""
-    from vibrofric.fem.recording import run_in_chunks
+    from vibrofric.fem.outputs.recording import run_in_chunks
 
     calls = []
 

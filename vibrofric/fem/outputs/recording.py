@@ -19,8 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..core.series import COLUMNS as SERIES_COLUMNS
-from ..core.series import RecordPlan
+from ...core.series import COLUMNS as SERIES_COLUMNS
+from ...core.series import RecordPlan
 from . import trouble
 from .steady import settled
 
