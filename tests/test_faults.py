@@ -520,7 +520,7 @@ def test_the_fe_loop_starts_its_chunks_again_at_the_vibrations_onset():
     after the onset sleeps 10 ms: no call may run across the onset, the chunks start
     again from one step there, and no call past it takes much more than
     CHUNK_SECONDS (twice it: the chunk halves only once a call took longer)."""
-    from vibrofric.fem.recording import CHUNK_SECONDS, run_in_chunks
+    from vibrofric.fem.outputs.recording import CHUNK_SECONDS, run_in_chunks
 
     onset, slow = 3000, 0.01
     calls = []
