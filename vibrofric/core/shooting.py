@@ -80,7 +80,8 @@ class Orbit:
     dt, steps            the step used and steps in a cycle
     solver_time_s        the shooting's wall time (compiled code loaded before)
     reason               why it is not the answer ("" where it is)
-    extra                {"start": "steady sliding" or "neighbour" (a sweep's continuation)}
+    extra                {"start": "steady sliding" or "neighbour" (a sweep's continuation),
+                         "floquet_note": how the FE stability was judged, where not by Arnoldi}
     """
 
     converged: bool
@@ -127,6 +128,8 @@ def periodic_block(orbit, scene) -> dict:
             "dt_adjusted": bool(orbit.dt != scene.time.dt),
             "steps_per_cycle": orbit.steps,
             "start": orbit.extra.get("start", "steady sliding"),
+            **({"floquet_note": orbit.extra["floquet_note"]}
+               if "floquet_note" in orbit.extra else {}),
             "reason": orbit.reason}
 
 
