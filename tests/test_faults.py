@@ -510,3 +510,30 @@ def test_the_fe_loop_returns_to_python_in_growing_chunks():
     last, _ = run_in_chunks(1000, None, 0, None, advance)
     assert last == 1000 and calls[0] == (1, 1) and calls[1] == (2, 3) and calls[-1][1] == 1000
     assert all(b[0] == a[1] + 1 for a, b in zip(calls, calls[1:]))  # every step once, in order
+
+
+def test_the_fe_loop_starts_its_chunks_again_at_the_vibrations_onset():
+    """Steps before the vibration are quick, so the chunks grow to thousands of steps;
+    from the onset a step can be many times slower (every contact node's friction
+    sub-steps: vibration.k_v = 1e6 made a step ~50 ms). A chunk grown before the
+    onset then ran for minutes with SIGTERM waiting (measured: 263 s). Here a step
+    after the onset sleeps 10 ms: no call may run across the onset, the chunks start
+    again from one step there, and no call past it takes much more than
+    CHUNK_SECONDS (twice it: the chunk halves only once a call took longer)."""
+    from vibrofric.fem.recording import CHUNK_SECONDS, run_in_chunks
+
+    onset, slow = 3000, 0.01
+    calls = []
+
+    def advance(first, last):
+        called = time.perf_counter()
+        time.sleep(slow * max(0, last - max(first, onset) + 1))
+        calls.append((first, last, time.perf_counter() - called))
+        return 0
+
+    last, _ = run_in_chunks(onset + 100, None, 0, None, advance, onset=onset)
+    assert last == onset + 100
+    assert all(b[0] == a[1] + 1 for a, b in zip(calls, calls[1:]))  # every step once, in order
+    assert any(a[1] - a[0] > 100 for a in calls)      # the quick steps ran in long chunks
+    assert (onset - 1) in [a[1] for a in calls] and (onset, onset) in [a[:2] for a in calls]
+    assert max(took for first, _, took in calls if first >= onset) < 2 * CHUNK_SECONDS

@@ -368,8 +368,11 @@ def _explained(err: Exception):
     """(message, exit code) for an error the user can act on; None for any other
     (a bug: its traceback is shown). The scene module is imported here, once
     an error is raised, not with this module (see the imports above)."""
+    from .friction_law import LawError
     from .scene import SceneError, refused
 
+    if isinstance(err, LawError):  # a user's law failing in a run (friction_law.specialize)
+        return f"vibrofric: invalid scene: contact.law: {err}", EXIT_BAD_INPUT
     if isinstance(err, SceneError):
         return f"vibrofric: invalid scene: {err}", EXIT_BAD_INPUT
     if isinstance(err, Refusal):

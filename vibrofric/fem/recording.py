@@ -170,7 +170,7 @@ PROGRESS_STEPS = 5000
 CHUNK_SECONDS = 0.2
 
 
-def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
+def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, onset=0):
     """Run steps 1..steps by ``advance(first, last) -> stop step or 0``, returning to
     Python for the ParaView frames, frame(state(i)) at i = 0, every ``every``
     steps and at the last step, for ``progress(i, steps)`` every
@@ -179,7 +179,14 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
     CHUNK_SECONDS or so (a chunk of steps doubles while it takes under half of
     it): Ctrl-C and SIGTERM, which Python handles only between compiled calls,
     end even a run of slow steps (a stiff contact's thousands of friction
-    sub-steps) at once. Returns (the last step run, the loop's seconds)."""
+    sub-steps) at once.
+
+    ``onset`` is the first step of the vibration, where a step may become many
+    times slower at once (every contact node's friction sub-steps start there): no
+    chunk runs across it, and the chunks start again from one step there. (Grown
+    over the quick steps before it, a chunk of thousands of steps ran for minutes
+    past the onset with SIGTERM waiting.) Returns (the last step run, the loop's
+    seconds)."""
     frames = frame is not None and every > 0
     if progress is not None:
         progress(0, steps)
@@ -194,10 +201,14 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
             last = min(last, (first // every + 1) * every)
         if progress is not None:
             last = min(last, (first // PROGRESS_STEPS + 1) * PROGRESS_STEPS)
+        if first < onset:
+            last = min(last, onset - 1)
         called = time.perf_counter()
         stop = advance(first, last)
         took = time.perf_counter() - called
-        if took < CHUNK_SECONDS / 2 and last - first + 1 == chunk:
+        if last + 1 == onset:
+            chunk = 1
+        elif took < CHUNK_SECONDS / 2 and last - first + 1 == chunk:
             chunk *= 2
         elif took > CHUNK_SECONDS and chunk > 1:
             chunk //= 2

@@ -18,6 +18,7 @@ range of steps; the TimeLoop owns the rest, the same for all of them:
     run.integrate(plan, frame=None, every=0, progress=None) -> recording.Integration
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -114,8 +115,10 @@ class TimeLoop:
                 raise trouble.failure(failed, code, scene, self.hint)
             return stop
 
+        onset = math.floor(scene.vibration.t_on / dt) + 1   # the first step the base vibrates in
         with one_blas_thread():
-            last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress)
+            last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress,
+                                            onset)
         stats = {**loop_stats(scalars, loop_time), **self.stats(scalars, last),
                  **steady.report(last)}
         return Integration(recorder.table(last), state(last), stats)
