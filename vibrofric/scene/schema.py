@@ -120,7 +120,7 @@ class Time:
                                            # averaging windows (analytic/summary.py)
     method: str = "transient"              # "transient" (step through T), "periodic" (the
                                            # steady cycle by shooting: analytic/periodic.py,
-                                           # fem/periodic.py; stepping where it fails) or
+                                           # fem/integrators/periodic.py; stepping where it fails) or
                                            # "auto" (the same)
 
 
