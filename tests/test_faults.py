@@ -500,7 +500,7 @@ def test_the_run_time_estimate_counts_friction_sub_steps(load_scene):
 def test_the_fe_loop_returns_to_python_in_growing_chunks():
     """run_in_chunks calls the compiled step over chunks that start at one step and
     double while quick: a signal is handled between two calls."""
-    from vibrofric.fem.recording import run_in_chunks
+    from vibrofric.fem.outputs.recording import run_in_chunks
 
     calls = []
 
@@ -521,7 +521,7 @@ def test_the_fe_loop_starts_its_chunks_again_at_the_vibrations_onset():
     after the onset sleeps 10 ms: no call may run across the onset, the chunks start
     again from one step there, and no call past it takes much more than
     CHUNK_SECONDS (twice it: the chunk halves only once a call took longer)."""
-    from vibrofric.fem.recording import CHUNK_SECONDS, run_in_chunks
+    from vibrofric.fem.outputs.recording import CHUNK_SECONDS, run_in_chunks
 
     onset, slow = 3000, 0.01
     calls = []

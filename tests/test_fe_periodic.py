@@ -1,4 +1,4 @@
-"""The FE model's steady state by shooting (fem/periodic.py, fem/cycle_map.py)."""
+"""The FE model's steady state by shooting (fem/integrators/periodic.py, fem/integrators/cycle_map.py)."""
 
 import json
 
@@ -9,7 +9,8 @@ from vibrofric import scene as scene_module
 from vibrofric.analytic.summary import summarize
 from vibrofric.cli import main
 from vibrofric.core import shooting
-from vibrofric.fem import periodic, run_fe
+from vibrofric.fem import run_fe
+from vibrofric.fem.integrators import periodic
 
 LONGITUDINAL = "scenes/longitudinal.toml"
 # The Fig 7 scene with the vibration on at 10 ms: a stepped run to T = 0.4 s has had
@@ -64,16 +65,24 @@ def test_the_orbit_equals_the_settled_transient_of_the_same_integrator(name, law
 
 @pytest.mark.slow
 def test_an_orbit_that_is_not_stable_is_stepped_and_says_why(monkeypatch):
-    """Where the multipliers say the orbit is not stable (the rule checked by tightening the
-    threshold below the orbit's largest multiplier), the scene is stepped through T and
-    the periodic block says why; never the orbit returned silently."""
+    """Where Arnoldi's multipliers say the orbit is not stable (the rule checked by
+    tightening the threshold below the orbit's largest multiplier, 0.984) and a
+    perturbation does not decay (decay_rate made to say 1.02), the scene is stepped
+    through T and the periodic block says why; never the orbit returned silently.
+    Where the perturbation does decay (its real rate), Arnoldi's value is not
+    confirmed: the orbit answers, its block says so and gives the decay rate."""
     real = shooting.instability
     monkeypatch.setattr(periodic, "instability", lambda m: real(m, 0.5))
     scene = fig7(fem__integrator="reduced", time__dt=1e-5, time__T=0.05, time__method="auto")
+    confirmed = run_fe(scene)
+    block = confirmed.info["periodic"]
+    assert block["method"] == "periodic" and "not confirmed" in block["floquet_note"]
+    assert 0.9 < block["floquet_max_modulus"] < 1.0
+    monkeypatch.setattr(periodic, "decay_rate", lambda phi, x: 1.02)
     fe = run_fe(scene)
     block = fe.info["periodic"]
     assert block["method"] == "transient" and block["converged"]
-    assert "multiplier" in block["reason"]
+    assert "multiplier" in block["reason"] and "grows" in block["reason"]
     assert fe.info["steps"] == scene.steps
     assert fe.series.t[-1] == pytest.approx(scene.time.T)
 

@@ -6,7 +6,7 @@ same scheme returns to itself (in the frame that moves with the drive):
 
     R(z) = Phi(z) - z = 0,        Phi = one base cycle of the stepper
 
-(analytic/periodic.py for the lumped steppers, fem/periodic.py for the FE
+(analytic/periodic.py for the lumped steppers, fem/integrators/periodic.py for the FE
 integrators). Here: the whole number of steps a cycle takes, the Orbit and its
 summary block, the judgement of the Floquet multipliers (the eigenvalues of
 dPhi/dz at the orbit), and, for states too large for a finite-difference
@@ -69,7 +69,7 @@ def instability(multipliers: np.ndarray, stable: float = STABLE) -> str:
 
 @dataclass
 class Orbit:
-    """What a shooting found (analytic/periodic.py, fem/periodic.py).
+    """What a shooting found (analytic/periodic.py, fem/integrators/periodic.py).
 
     converged            Newton's residual reached its tolerance
     stable               every Floquet multiplier inside the unit circle (STABLE)
@@ -80,7 +80,8 @@ class Orbit:
     dt, steps            the step used and steps in a cycle
     solver_time_s        the shooting's wall time (compiled code loaded before)
     reason               why it is not the answer ("" where it is)
-    extra                {"start": "steady sliding" or "neighbour" (a sweep's continuation)}
+    extra                {"start": "steady sliding" or "neighbour" (a sweep's continuation),
+                         "floquet_note": how the FE stability was judged, where not by Arnoldi}
     """
 
     converged: bool
@@ -127,6 +128,8 @@ def periodic_block(orbit, scene) -> dict:
             "dt_adjusted": bool(orbit.dt != scene.time.dt),
             "steps_per_cycle": orbit.steps,
             "start": orbit.extra.get("start", "steady sliding"),
+            **({"floquet_note": orbit.extra["floquet_note"]}
+               if "floquet_note" in orbit.extra else {}),
             "reason": orbit.reason}
 
 
@@ -192,9 +195,12 @@ def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step: float, tole
 
     is accelerated by Anderson's mixing over the last ``memory`` iterates (Anderson,
     J. ACM 12, 1965; Walker & Ni, SIAM J. Numer. Anal. 49, 2011): the next x is
-    the combination of the T's whose residuals' combination is least; the history
-    is dropped where the residual grows tenfold past its best. Converged: the RMS
-    of r at most ``tolerance``; at most ``max_cycles`` cycles.
+    the combination of the T's whose residuals' combination is least. Where the
+    residual doubles past its best, H is taken afresh there and the history
+    dropped (H taken far from the orbit can send the slow modes astray: at k_v = 2
+    along X on the coupled scene the residual fell to 1e-3 and then grew); where
+    the stepper fails from the combined state, the plain step is taken. Converged:
+    the RMS of r at most ``tolerance``; at most ``max_cycles`` cycles.
     """
     cycles = 0
 
@@ -204,12 +210,19 @@ def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step: float, tole
         return cycle(y)
 
     S, _ = np.linalg.qr(slow)
+
+    def newton_matrix(y, g_y):
+        """H - I, H = S^T J S at y by forward differences (p cycles)."""
+        H = np.column_stack([(phi(y + slow_step * S[:, j]) - g_y) / slow_step
+                             for j in range(S.shape[1])])
+        if not np.all(np.isfinite(H)):     # the stepper failed: plain cycles there too
+            return -np.eye(S.shape[1])
+        return S.T @ H - np.eye(S.shape[1])
+
     g = phi(x)
-    H = np.column_stack([(phi(x + slow_step * S[:, j]) - g) / slow_step
-                         for j in range(S.shape[1])])
-    newton = S.T @ H - np.eye(S.shape[1])
+    newton = newton_matrix(x, g)
     xs, ts = [], []
-    best = math.inf
+    best, best_g = math.inf, g
     iterations = 0
     reason = ""
     while True:
@@ -224,8 +237,14 @@ def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step: float, tole
             reason = (f"Newton-Picard did not reach {tolerance:g} in {max_cycles} cycles "
                       f"(residual {norm:.3g})")
             break
-        if norm > 10.0 * best:      # Anderson's combination went astray: start it afresh
+        if norm < best:
+            best_g = g
+        if norm > 2.0 * best:
+            # Astray: the slow modes' multipliers have moved since H was taken (far from
+            # the orbit), or Anderson's combination overshot: H afresh here, history dropped.
+            newton = newton_matrix(x, g)
             xs, ts = [], []
+            best = norm
         best = min(best, norm)
         iterations += 1
         dp = np.linalg.solve(newton, -(S.T @ r))
@@ -233,12 +252,20 @@ def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step: float, tole
         xs.append(x)
         ts.append(t)
         xs, ts = xs[-(memory + 1):], ts[-(memory + 1):]
+        accelerated = t
         if len(xs) > 1:
             F = np.array(ts).T - np.array(xs).T        # T(x) - x of each kept iterate
             gamma, *_ = np.linalg.lstsq(np.diff(F, axis=1), F[:, -1], rcond=None)
-            t = ts[-1] - np.diff(np.array(ts).T, axis=1) @ gamma
-        x = t
-        g = phi(x)
+            accelerated = ts[-1] - np.diff(np.array(ts).T, axis=1) @ gamma
+        # Where the stepper fails from the accelerated state (its contact iteration, far
+        # from the orbit) or it lands far astray, the plain Newton-Picard step, a plain
+        # cycle, or a plain cycle from the best state so far, instead.
+        for trial in (accelerated, t, g, best_g):
+            g_trial = phi(trial)
+            if np.all(np.isfinite(g_trial)) and rms(g_trial - trial) <= 10.0 * best:
+                break
+            xs, ts = [], []
+        x, g = trial, g_trial
     return Shot(x, g, norm, iterations, cycles, norm <= tolerance, reason)
 
 

@@ -48,7 +48,7 @@ frequencies; the difference of the two sides measures that numerical dissipation
 
 from numba import njit
 
-from ..friction_law import law_kernel
+from ...friction_law import law_kernel
 
 # sums[]: the accumulated inputs and dissipations
 W_DRIVE, W_BASE, D_FRIC, D_DAMP = range(4)

@@ -1,17 +1,17 @@
 """Implicit time integration: generalized-alpha with the linear operator factorized once.
 
-Coordinates. u = u0 + T q, u0 the static preload (preload.py). The full model
+Coordinates. u = u0 + T q, u0 the static preload (model/preload.py). The full model
 has T = I; the reduced one (reduction.py) a Craig-Bampton basis. In both, each
 contact node's X, Y, Z displacement is a coordinate of its own (``contact_dofs``;
-P picks them out of q), and the drive's attachment is x_A = d_x^T q (drive.py).
+P picks them out of q), and the drive's attachment is x_A = d_x^T q (model/drive.py).
 The equation of motion is
 
     M q'' + C q' + K q = P f_c - P_z N0 + d_x F_d,        C = beta K
 
-with f_c = (-F_x, -F_y, N) per contact node (contact.py: the friction law and
+with f_c = (-F_x, -F_y, N) per contact node (model/contact.py: the friction law and
 the penalty spring with its dashpot), N0 the preload's reactions (the dead
 loads less K u0), F_d = k_d (v_d t - x_A) (eq 17) and the model's Rayleigh
-damping beta (stability.py), as in explicit.py.
+damping beta (model/stability.py), as in explicit.py.
 
 Generalized-alpha (Chung & Hulbert, J. Appl. Mech. 60, 1993), with the
 spectral radius rho_inf at infinite frequency (scene fem.rho_infinity):
@@ -85,7 +85,7 @@ step whose bound exceeds MAX_CONTRACTION, naming the halved step
 
 The parts: generalized_alpha.py (coefficients, the linear system, the
 contact tangent), contact_solve.py (the contact forces at a trial state and
-the iteration), step_cost.py (for "auto"), energy.py (the balance); here, the
+the iteration), step_cost.py (for "auto"), outputs/energy.py (the balance); here, the
 prepared run and its compiled step.
 
 Where that bound does not hold: nodes near lift-off. The block rocks on its
@@ -108,22 +108,22 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
-from ..core.base_motion import base_displacement, vibration_axis
-from ..core.errors import StepTooLong
-from ..core.law_limits import slip_per_step
-from ..friction_law import law_kernel
-from ..friction_law.contract import FASTMATH
-from . import energy, recording, trouble
+from ...core.base_motion import base_displacement, vibration_axis
+from ...core.errors import StepTooLong
+from ...core.law_limits import slip_per_step
+from ...friction_law import law_kernel
+from ...friction_law.contract import FASTMATH
+from ..outputs import energy, recording, trouble
 from .borrowed import borrowed
 from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRACTION,
                             MAX_ITERATIONS, MIN_STEP, STALL_FACTOR, ContactData, StepStart,
                             contact_residual, implicit_substeps, newton_correction,
                             still_substeps)
-from .drive import prescribed_position
-from .energy import add_contact_work, stored as energy_stored
+from ..model.drive import prescribed_position
+from ..outputs.energy import add_contact_work, stored as energy_stored
 from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
-from .linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
-from .recording import COS, SIN, XB, YB, finish_step, keep_step
+from ..model.linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
+from ..outputs.recording import COS, SIN, XB, YB, finish_step, keep_step
 from .step_cost import step_cost
 from .time_loop import Started, TimeLoop
 
@@ -176,7 +176,7 @@ class Operators(NamedTuple):
 
     mass: object            # M: diagonal array (full) or dense matrix (reduced)
     stiffness: object       # K: BSR blocks (full) or dense matrix (reduced)
-    inv: object             # A^-1: its factorization (linalg.py)
+    inv: object             # A^-1: its factorization (model/linalg.py)
     Z: np.ndarray           # A^-1 [P d_x] (and d_y for a drive held in Y)
     G: np.ndarray           # P^T A^-1 P
     h: np.ndarray           # P^T A^-1 d_x
@@ -209,7 +209,7 @@ class Drive(NamedTuple):
 
 
 class Limits(NamedTuple):
-    """What numerical trouble is measured against (trouble.py)."""
+    """What numerical trouble is measured against (outputs/trouble.py)."""
 
     F_N: float
     mu_max: float
@@ -419,7 +419,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
                    q, v, a, states, normal, friction, g_prev, scalars, sums,
                    recorder, steady, work):
     """Advance steps ``first`` .. ``last``. Returns (failed step, code, stop step):
-    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py)."""
+    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (outputs/steady.py)."""
     # The caller holds every array through the call: the loop uses them without
     # reference counts (borrowed.py).
     (operators, contact, params, work, q, v, a, states, normal, friction, g_prev, scalars, sums,

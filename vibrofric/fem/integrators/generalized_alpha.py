@@ -44,7 +44,7 @@ class LinearSystem:
                      (the full model), or dense 2-D arrays (the reduced model)
     contact_dofs     (contacts, 3) the q index of each contact node's X, Y, Z
     drive_index, drive_x, drive_y
-                     x_A = sum drive_x q[drive_index], y_A likewise (drive.py)
+                     x_A = sum drive_x q[drive_index], y_A likewise (model/drive.py)
     expand           q -> T q, the node displacement field (for frames and fields)
     rigid            a rigid motion of the block's nodes (dofs,) -> its q (T q equals it:
                      the basis spans rigid motions, cycle_map.py)

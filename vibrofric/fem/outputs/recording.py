@@ -19,9 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..core.chunks import CHUNK_SECONDS, next_chunk
-from ..core.series import COLUMNS as SERIES_COLUMNS
-from ..core.series import RecordPlan
+from ...core.chunks import CHUNK_SECONDS, next_chunk
+from ...core.series import COLUMNS as SERIES_COLUMNS
+from ...core.series import RecordPlan
 from . import trouble
 from .steady import settled
 
