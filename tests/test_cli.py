@@ -28,6 +28,22 @@ def test_analytic_json_and_results(tmp_path, capsys):
     assert written["F_dv"] == document["F_dv"]
 
 
+def test_a_shipped_scene_by_name_from_another_directory(tmp_path, capsys, monkeypatch):
+    """``vibrofric analytic longitudinal`` reads the package's own scene file: the same
+    answer as the repository's file; a bare name that is neither a file nor a shipped
+    scene is refused, naming the shipped ones."""
+    answers = []
+    for scene in ("scenes/longitudinal.toml", "longitudinal"):
+        assert main(["analytic", scene, *SHORT, "--json", "--out", str(tmp_path / scene.replace("/", "-"))]) == 0
+        answers.append(json.loads(capsys.readouterr().out)["F_dv_over_F_d0"])
+        monkeypatch.chdir(tmp_path)   # the name works from anywhere
+    assert answers[0] == answers[1]
+    assert main(["analytic", "longitudinl", *SHORT, "--out", str(tmp_path / "never")]) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err
+    assert "longitudinl: no such scene file, nor a shipped scene (coupled, longitudinal, transverse)" in err
+    assert not (tmp_path / "never").exists()
+
+
 @pytest.mark.parametrize("override", ["body.mass=-1", "time.dt=0", "vibration.k_v=-1", "bogus.key=1"])
 def test_refused_scene_writes_nothing(tmp_path, capsys, override):
     out = tmp_path / "never"

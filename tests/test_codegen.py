@@ -31,10 +31,11 @@ ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = """
 import json
 from vibrofric import scene as scenes
-from vibrofric.fem import run_fe, linalg
-from vibrofric.fem.explicit import explicit_steps, step_forces
-from vibrofric.fem.generalized_alpha import free_response
-from vibrofric.fem.implicit import implicit_steps, new_displacements
+from vibrofric.fem import run_fe
+from vibrofric.fem.model import linalg
+from vibrofric.fem.integrators.explicit import explicit_steps, step_forces
+from vibrofric.fem.integrators.generalized_alpha import free_response
+from vibrofric.fem.integrators.implicit import implicit_steps, new_displacements
 
 base = scenes.load("scenes/longitudinal.toml", ["fem.mesh=tiny", "vibration.t_on=0.0005",
                    "time.T=0.002", "time.average_cycles=2", "fem.output_every=0"])
@@ -74,5 +75,5 @@ def test_loops_compiled_for_intel_have_no_gathers(tmp_path):
     for name, (gathers, size, _) in counts.items():
         assert size > 1000, f"{name}: no assembly compiled"
         assert gathers == 0, f"{name}: {gathers} gather instructions for an Intel target"
-    # the product's block rows as four-lane multiply-adds (fem/simd.py): three a block
+    # the product's block rows as four-lane multiply-adds (fem/model/simd.py): three a block
     assert counts["_bsr_apply"][2] >= 3, "the product with K is not four lanes wide"

@@ -16,6 +16,7 @@ import textwrap
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 from conftest import child_environment
 
@@ -499,7 +500,7 @@ def test_the_run_time_estimate_counts_friction_sub_steps(load_scene):
 def test_the_fe_loop_returns_to_python_in_growing_chunks():
     """run_in_chunks calls the compiled step over chunks that start at one step and
     double while quick: a signal is handled between two calls."""
-    from vibrofric.fem.recording import run_in_chunks
+    from vibrofric.fem.outputs.recording import run_in_chunks
 
     calls = []
 
@@ -510,3 +511,66 @@ def test_the_fe_loop_returns_to_python_in_growing_chunks():
     last, _ = run_in_chunks(1000, None, 0, None, advance)
     assert last == 1000 and calls[0] == (1, 1) and calls[1] == (2, 3) and calls[-1][1] == 1000
     assert all(b[0] == a[1] + 1 for a, b in zip(calls, calls[1:]))  # every step once, in order
+
+
+def test_the_fe_loop_starts_its_chunks_again_at_the_vibrations_onset():
+    """Steps before the vibration are quick, so the chunks grow to thousands of steps;
+    from the onset a step can be many times slower (every contact node's friction
+    sub-steps: vibration.k_v = 1e6 made a step ~50 ms). A chunk grown before the
+    onset then ran for minutes with SIGTERM waiting (measured: 263 s). Here a step
+    after the onset sleeps 10 ms: no call may run across the onset, the chunks start
+    again from one step there, and no call past it takes much more than
+    CHUNK_SECONDS (twice it: the chunk halves only once a call took longer)."""
+    from vibrofric.fem.outputs.recording import CHUNK_SECONDS, run_in_chunks
+
+    onset, slow = 3000, 0.01
+    calls = []
+
+    def advance(first, last):
+        called = time.perf_counter()
+        time.sleep(slow * max(0, last - max(first, onset) + 1))
+        calls.append((first, last, time.perf_counter() - called))
+        return 0
+
+    last, _ = run_in_chunks(onset + 100, None, 0, None, advance, onset=onset)
+    assert last == onset + 100
+    assert all(b[0] == a[1] + 1 for a, b in zip(calls, calls[1:]))  # every step once, in order
+    assert any(a[1] - a[0] > 100 for a in calls)      # the quick steps ran in long chunks
+    assert (onset - 1) in [a[1] for a in calls] and (onset, onset) in [a[:2] for a in calls]
+    assert max(took for first, _, took in calls if first >= onset) < 2 * CHUNK_SECONDS
+
+
+@pytest.mark.parametrize("stepper", ["coupled", "longitudinal"])
+def test_the_analytic_steppers_run_in_chunks_to_the_same_bits(load_scene, monkeypatch, stepper):
+    """The lumped steppers hand back to Python between chunks of steps (core.chunks), so
+    that Ctrl-C and SIGTERM end even a slow user law's run at once (measured with a law
+    that spends ~0.2 ms a step: SIGINT answered in 0.26 s, SIGTERM in 0.07 s; before,
+    after 50 s, at the end of the run). Cut anywhere, a run gives the same bits: here
+    chunks of 1 to 700 steps at random against the growing chunks of a normal run."""
+    from vibrofric.analytic import coupled, longitudinal
+    from vibrofric.core import chunks
+
+    module = coupled if stepper == "coupled" else longitudinal
+    run = coupled.run_coupled if stepper == "coupled" else longitudinal.run_longitudinal
+    scene = load_scene("coupled", vibration__t_on=0.002, time__T=0.012, time__average_cycles=4)
+    whole = run(scene)
+    sizes = random.Random(1)
+    calls = []
+
+    def ragged(steps, advance):
+        first = 1
+        while first <= steps:
+            last = min(steps, first + sizes.randint(1, 700) - 1)
+            calls.append((first, last))
+            stop = advance(first, last)
+            if stop:
+                return stop
+            first = last + 1
+        return 0
+
+    monkeypatch.setattr(module, "run_in_chunks", ragged)
+    cut = run(scene)
+    assert len(calls) > 20 and calls[-1][1] == scene.steps
+    for name in ("t", "F_d", "F_x", "F_y", "x", "y", "x_b", "y_b"):
+        assert np.array_equal(getattr(whole, name), getattr(cut, name)), name
+    assert chunks.run_in_chunks(10, lambda first, last: 7 if last >= 7 else 0) == 7

@@ -5,8 +5,8 @@ The shipped scenes are package data (vibrofric/scenes), so load_scene("longitudi
 the command's --version and the bench's scenes must work without the repository.
 The environment is Debian's Python with its system packages (numpy, numba, DOLFINx,
 as ``make setup`` makes .venv); the few dependencies Debian lacks are linked in from
-this interpreter's copies. Building and installing takes ~15 s and the analytic run
-compiles its loops afresh in the new location: slow.
+this interpreter's copies. Building, installing and compiling every loop afresh in
+the new location make these tests slow.
 """
 
 import importlib.util
@@ -119,6 +119,14 @@ print(json.dumps({"file": vf.__file__, "names": vf.scene_names(),
     assert 0.0 < answer["ratio"] < 1.0 and answer["rows"] > 100
 
 
+def test_the_command_runs_a_shipped_scene_by_name(installed, tmp_path):
+    python, command, work, env = installed
+    out = tmp_path / "analytic"
+    document = json.loads(run([str(command), "analytic", "transverse", "--set", "time.T=0.2",
+                               "--json", "--out", str(out)], cwd=work, env=env))
+    assert 0.0 < document["F_dv_over_F_d0"] < 1.0 and (out / "summary.json").exists()
+
+
 def test_the_bench_finds_its_scenes_in_the_installed_package(installed):
     """vibrofric bench's scenes (plans.SCENE, the periodic rows' SCENES) are package data;
     the example law, which lives in the repository's examples/, is left out."""
@@ -132,3 +140,23 @@ print(scene.name, sorted(p.name for p in periodic_vs_transient.SCENES.glob("*.to
     assert run([str(python), "-c", code], cwd=work, env=env).split("\n")[0] == \
         "longitudinal ['coupled.toml', 'longitudinal.toml', 'transverse.toml'] " \
         "LuGre, F_s = 1.2 F_c, v_s = 2 mm/s"
+
+
+def test_the_bench_command_runs_from_the_installed_package(installed, tmp_path):
+    """``vibrofric bench --quick`` end to end (the command, its scene, the FE runs, the
+    report), with its plan cut to a few seconds of runs on the one-element mesh."""
+    python, _, work, env = installed
+    out = tmp_path / "bench"
+    code = f"""
+import sys
+from vibrofric import bench, cli
+bench.QUICK = bench.Plan(
+    T=0.2, analytic_dts=(4e-6, 2e-6), analytic_reference_dt=1e-7,
+    fe_cases=(("reduced", "tiny", 1e-5),), fe_reference=("explicit", "tiny", 2e-6),
+    dofs_cases=(("reduced", (("tiny", 1e-5), ("2x2x2", 1e-5))),), dofs_T=0.01,
+    time_cases=(("reduced", "tiny", 1e-5, (0.01, 0.02)),))
+sys.exit(cli.main(["bench", "--quick", "--out", {str(out)!r}]))
+"""
+    table = run([str(python), "-c", code], cwd=work, env=env)
+    assert "| FE reduced | tiny, dt = 1e-05 |" in table and "| analytic exact |" in table
+    assert (out / "bench.md").read_text() in table and (out / "bench.png").stat().st_size > 10_000

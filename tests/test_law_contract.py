@@ -237,13 +237,13 @@ def test_1d_stepper_equals_coupled_along_x(name):
                  id="lugre-damped-transverse"),    # with its dampings
 ])
 def test_fe_node_reproduces_lumped_forces(name, overrides, contact):
-    """The FE model's per-node contact (fem.contact) on ONE node (area share 1, normal
+    """The FE model's per-node contact (fem.model.contact) on ONE node (area share 1, normal
     force F_N), driven by the lumped stepper's own body and base trajectory, returns the
     stepper's friction force at every step. Both call the same law update with the same
     increments, so they agree to rounding: 1e-10 relative leaves room only for a
     different order of floating-point operations, not for a different slip, free-end
     increment, stiffness share or Coulomb limit."""
-    from vibrofric.fem.contact import contact_forces
+    from vibrofric.fem.model.contact import contact_forces
 
     scene = short_scene(name, *overrides, **contact)
     lumped = run_coupled(scene)
@@ -450,6 +450,51 @@ def test_a_broken_law_is_refused_in_one_line(tmp_path, capsys, case):
               f"contact.law={law}", "--out", str(out), "--verbose"])
         verbose = capsys.readouterr().err
         assert "Failed in nopython mode" in verbose and "\x1b[" not in verbose
+
+
+# Laws that pass their first steps, checked when loaded, and fail later: after many
+# calls (a count kept in the state), or only on an FE node (area share below 1).
+LATE_FAILURES = {
+    "indexes-outside-after-many-calls": (
+        JENKINS.replace("STATE_SIZE = 2 ", "STATE_SIZE = 3 ")
+        .replace("INITIAL_STATE = (0.0, 0.0)", "INITIAL_STATE = (0.0, 0.0, 0.0)")
+        .replace("    state[0], state[1] = d_x, d_y\n",
+                 "    state[0], state[1] = d_x, d_y\n    state[2] += 1.0\n"
+                 "    if state[2] > 1000.0:\n        state[5] = 1.0\n"),
+        "update indexed outside its state (STATE_SIZE = 3) or its parameters during the run"),
+    "raises-on-an-fe-node": (
+        JENKINS.replace("    state[0], state[1] = d_x, d_y\n",
+                        "    state[0], state[1] = d_x, d_y\n    if area_share < 0.99:\n"
+                        "        raise ValueError('a node of the FE model')\n"),
+        "update raised ValueError: a node of the FE model during the run"),
+}
+
+
+@pytest.mark.parametrize("command, case", [
+    ("analytic", "indexes-outside-after-many-calls"),
+    pytest.param("run", "indexes-outside-after-many-calls", marks=pytest.mark.slow),
+    pytest.param("run", "raises-on-an-fe-node", marks=pytest.mark.slow),
+])
+def test_a_law_failing_past_its_checked_first_steps_is_named_in_one_line(tmp_path, capsys,
+                                                                         command, case):
+    """An exception out of a user's law in the middle of a run (bounds-checked, so an
+    index outside its state is an IndexError, not a crash) is the law's: one line
+    naming the law file, exit 2, nothing written; before, "failed unexpectedly ...
+    please report it", exit 1, as for a bug of vibrofric."""
+    from vibrofric.cli import main
+
+    source, message = LATE_FAILURES[case]
+    law = tmp_path / f"{case.replace('-', '_')}.py"
+    law.write_text(source)
+    out = tmp_path / "out"
+    code = main([command, str(ROOT / "scenes" / "longitudinal.toml"), "--set",
+                 f"contact.law={law}", "--set", "time.T=0.16", "--set", "vibration.t_on=0.145",
+                 "--set", "time.average_cycles=8", "--set", 'fem.mesh="tiny"',
+                 "--set", "fem.output_every=0", "--out", str(out)])
+    error = capsys.readouterr().err.strip().splitlines()[-1]
+    assert code == 2, error
+    assert error.startswith(f"vibrofric: invalid scene: contact.law: {law}: ") and message in error
+    assert sorted(p.name for p in tmp_path.iterdir()) == [law.name]
 
 
 def test_a_broken_law_stops_run_before_any_fe_work(tmp_path):

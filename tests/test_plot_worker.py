@@ -49,6 +49,20 @@ def test_plots_are_those_drawn_in_one_process(tmp_path, started):
         assert (out / name).read_bytes() == (tmp_path / name).read_bytes(), name
 
 
+def test_the_friction_legend_leaves_the_axes_clear():
+    """The friction curves sweep the axes' whole height every cycle: any legend inside
+    would cover one. Its box lies wholly below the axes (and inside the figure)."""
+    scene = scene_module.load(SCENES / "transverse.toml", ["time.T=0.2"])
+    series = written(solve(scene)[0], scene)
+    fig = plots.friction_last_cycles_figure({"FE": series, "analytic": series}, scene)
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    legend = ax.get_legend().get_window_extent(renderer)
+    lowest = min(ax.get_window_extent(renderer).y0,             # the axes, their tick labels
+                 ax.xaxis.get_tightbbox(renderer).y0)           # and the x label
+    assert legend.y1 <= lowest and legend.y0 >= 0.0
+
+
 @pytest.fixture(autouse=True)
 def _crash_logs_in_tmp(tmp_path, monkeypatch):
     """The failures below are logged (cli._crash_log) under the test's own directory."""

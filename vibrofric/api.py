@@ -48,6 +48,26 @@ def _scene_path(name: str) -> Path:
     return Path(str(resources.files("vibrofric") / "scenes" / f"{name}{SCENE_SUFFIX}"))
 
 
+def scene_file(source: str | Path) -> Path:
+    """The scene file ``source`` names: a file, or a shipped scene by name (scene_names()),
+    so that ``vibrofric analytic longitudinal`` runs from an installed package too.
+
+    Raises SceneError for a bare name that is neither a file here nor a shipped scene.
+
+    >>> scene_file("transverse").name
+    'transverse.toml'
+    """
+    from . import scene as scene_module
+
+    path = Path(source)
+    if path.exists() or path.parent != Path(".") or path.suffix != "":
+        return path
+    if path.name not in scene_names():
+        raise scene_module.SceneError(
+            str(source), f"no such scene file, nor a shipped scene ({', '.join(scene_names())})")
+    return _scene_path(path.name)
+
+
 def _key(name: str) -> str:
     """``time__T`` (a keyword argument) or ``time.T``: the scene key ``time.T``."""
     return name.replace("__", ".", 1) if "." not in name else name
@@ -84,13 +104,7 @@ def load_scene(source: str | Path | Mapping | "Scene" = "longitudinal", **overri
     elif isinstance(source, Mapping):
         scene = scene_module.from_dict({section: dict(values) for section, values in source.items()})
     else:
-        path = Path(source)
-        if not path.exists() and path.parent == Path(".") and path.suffix == "":
-            if path.name not in scene_names():
-                raise scene_module.SceneError(
-                    str(source), f"no such scene file, nor a shipped scene ({', '.join(scene_names())})")
-            path = _scene_path(path.name)
-        scene = scene_module.load(path)
+        scene = scene_module.load(scene_file(source))
     values = {_key(name): value for name, value in overrides.items()}
     if "contact.law" in values:  # another law: the present one's parameters kept where it has them
         law = values.pop("contact.law")

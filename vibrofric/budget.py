@@ -16,8 +16,8 @@ estimate in the message. The estimates are rough upper bounds:
             freedom and step: the explicit loop of the coarse mesh; and for FE
             FRICTION_UPDATE_SECONDS per friction-law update of a contact node, of
             which a stiff or fast contact takes many a step (the explicit loop's
-            sub-steps, fem.explicit.explicit_substeps, at most
-            fem.contact.MAX_SUBSTEPS), and the analytic stepper run beside
+            sub-steps, fem.integrators.explicit.explicit_substeps, at most
+            fem.model.contact.MAX_SUBSTEPS), and the analytic stepper run beside
             at its own step (fe_beside_analytic.analytic_scene)
 """
 
@@ -36,7 +36,7 @@ CSV_BYTES_PER_VALUE = 25           # a double's repr and its comma
 VTK_BYTES_PER_NODE = 600           # 7 fields, 22 values a node, base64 + headers
 STEP_SECONDS = 1e-7                # the analytic stepper: 30-70 ns a step
 FE_STEP_SECONDS_PER_DOF = 6e-8     # explicit, coarse mesh: ~40 us for 720 DOFs
-FRICTION_UPDATE_SECONDS = 6e-8     # one law update of one node (fem.step_cost.COST["friction"])
+FRICTION_UPDATE_SECONDS = 6e-8     # one law update of one node (fem.integrators.step_cost.COST["friction"])
 POINT_BYTES = 16_384               # a sweep point without series: scene.toml, summary.json, checks.json
 LONGEST_RUN_S = 30 * 86400         # refused beyond: a typo in time.T rather than a study
 
@@ -83,8 +83,8 @@ def contact_nodes(scene) -> int:
 
 def friction_updates(scene) -> int:
     """Friction-law updates a node takes in a step of the FE loop (its sub-steps)."""
-    from .fem.contact import MAX_SUBSTEPS
-    from .fem.explicit import explicit_substeps
+    from .fem.model.contact import MAX_SUBSTEPS
+    from .fem.integrators.explicit import explicit_substeps
 
     return min(explicit_substeps(scene), MAX_SUBSTEPS)
 

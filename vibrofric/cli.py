@@ -92,7 +92,8 @@ def _out_argument(parser, what: str):
 
 
 def _scene_arguments(parser):
-    parser.add_argument("scene", type=Path, help="scene file (TOML)")
+    parser.add_argument("scene", type=Path,
+                        help="scene file (TOML), or a shipped scene: longitudinal, transverse, coupled")
     parser.add_argument("--set", dest="overrides", action="append", default=[],
                         metavar="SECTION.KEY=VALUE", help="override a scene key (repeatable)")
     _out_argument(parser, "results directory")
@@ -198,10 +199,10 @@ def cmd_analytic(args) -> None:
             from . import budget
             from . import scene as scene_module
             from .analytic.solve import solve
-            from .api import check_stepper
+            from .api import check_stepper, scene_file
             from .core.series import written
 
-        scene = scene_module.load(args.scene, args.overrides)
+        scene = scene_module.load(scene_file(args.scene), args.overrides)
         check_stepper(scene, args.stepper)
         target, claim = _target(args, "analytic")
         budget.check([scene], fe=False, out=target or Path("results"),
@@ -215,13 +216,7 @@ def cmd_analytic(args) -> None:
                 output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
                 output.write_timeseries(stage, series)
     _warn_unsettled(summary)
-    periodic = summary.get("periodic")
-    if periodic and periodic["method"] == "transient" and periodic["reason"]:
-        print(f"warning: no periodic steady state: {periodic['reason']}; stepped through "
-              "time.T instead", file=sys.stderr)
-    how = (f" (periodic: {periodic['cycles_integrated']} cycles, largest Floquet multiplier "
-           f"{periodic['floquet_max_modulus']:.4f})" if periodic and periodic["method"] == "periodic"
-           else "")
+    how = _periodic_note(summary)
     _emit(args, {**summary, "out": str(target)},
           f"F_dv/F_d0 = {_number(summary['F_dv_over_F_d0'])} (F_dv = {summary['F_dv']:.4f} N, "
           f"F_d0 = {summary['F_d0']:.4f} N) in {summary['wall_time_s']:.3f} s{how}; "
@@ -254,9 +249,9 @@ def _progress_bar(args, what: str, total: float):
 def cmd_run(args) -> None:
     from . import budget
     from . import scene as scene_module
-    from .api import write_fe_run
+    from .api import scene_file, write_fe_run
 
-    scene = scene_module.load(args.scene, args.overrides)
+    scene = scene_module.load(scene_file(args.scene), args.overrides)
     target, claim = _target(args, "run")
     budget.check([scene], fe=True, out=target or Path("results"), full_series=args.full_series)
     target = target or output.default_dir(scene.name)
@@ -270,19 +265,38 @@ def cmd_run(args) -> None:
     _warn_unsettled(fe, "FE")
     _warn_unsettled(analytic, "analytic")
     settled = (f", settled at {fe['stop_time_s']:g} s, {fe['saving']:.0%} of the steps saved"
-               if fe["stopped_early"] else "")
+               if fe["stopped_early"] else "") + _periodic_note(fe, "FE ")
     _emit(args, document,
           f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['integrator']}, {fe['dofs']} DOFs, "
           f"{fe['wall_time_s']:.1f} s{settled}), analytic {_number(analytic['F_dv_over_F_d0'])}; "
           f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}")
 
 
+def _periodic_note(summary: dict, label: str = "") -> str:
+    """The answer's note on the periodic solver (time.method periodic or auto): where it
+    answered, its cycles and largest Floquet multiplier; where it did not, a warning
+    on stderr saying why the run was stepped."""
+    periodic = summary.get("periodic")
+    if not periodic:
+        return ""
+    if periodic["method"] == "transient":
+        if periodic["reason"]:
+            print(f"warning: no {label}periodic steady state: {periodic['reason']}; stepped "
+                  "through time.T instead", file=sys.stderr)
+        return ""
+    adjusted = (f", at dt = {periodic['dt']:.6g} s for {periodic['steps_per_cycle']} steps a cycle"
+                if periodic.get("dt_adjusted") else "")
+    return (f" (periodic: {periodic['cycles_integrated']} cycles, largest Floquet multiplier "
+            f"{periodic['floquet_max_modulus']:.4f}{adjusted})")
+
+
 def cmd_sweep(args) -> int:
     from . import scene as scene_module
+    from .api import scene_file
     from .batch import run_sweep
     from .grid import parse_grid
 
-    scene = scene_module.load(args.scene, args.overrides)
+    scene = scene_module.load(scene_file(args.scene), args.overrides)
     grid = [parse_grid(text) for text in args.grid]
     from .batch import mpi
 
@@ -354,8 +368,11 @@ def _explained(err: Exception):
     """(message, exit code) for an error the user can act on; None for any other
     (a bug: its traceback is shown). The scene module is imported here, once
     an error is raised, not with this module (see the imports above)."""
+    from .friction_law import LawError
     from .scene import SceneError, refused
 
+    if isinstance(err, LawError):  # a user's law failing in a run (friction_law.specialize)
+        return f"vibrofric: invalid scene: contact.law: {err}", EXIT_BAD_INPUT
     if isinstance(err, SceneError):
         return f"vibrofric: invalid scene: {err}", EXIT_BAD_INPUT
     if isinstance(err, Refusal):

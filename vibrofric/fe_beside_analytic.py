@@ -55,11 +55,12 @@ def relative_error(fe: float | None, analytic: float | None) -> float | None:
 
 
 def fe_beside_analytic(scene, directory, comm=None, progress=None,
-                       full_series: bool = False) -> FEBesideAnalytic:
+                       full_series: bool = False, start=None) -> FEBesideAnalytic:
     """Run the scene's FE model (on ``comm``, default MPI.COMM_SELF) and the
     analytic stepper (at time.dt <= ANALYTIC_DT), and write into ``directory``: scene.toml, timeseries.csv
     (FE), analytic_timeseries.csv and, if fem.output_every > 0, paraview/.
-    ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe).
+    ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe);
+    ``start``, a neighbour's FE orbit state (time.method periodic or auto: fem.run_fe).
     The time series files hold the rows core.series.written() names, or with
     ``full_series`` every kept row.
 
@@ -67,23 +68,32 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
     by then for the caller's output.staged() to drop.
     """
     from .analytic.solve import solve
-    from .analytic.summary import summarize
+    from .analytic.summary import summarize, summarize_orbit
     from .fem import run_fe
 
     try:
-        fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress)
+        fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress,
+                    start=start)
     except Refusal as refusal:
         raise refused(refusal) from refusal
     beside = analytic_scene(scene)
     analytic_series, analytic = solve(beside)
     info = fe.info
-    fe_summary = {**summarize(fe.series, scene, info["wall_time_s"]),
+    answered = info.get("periodic", {}).get("method") == "periodic"
+    if answered:    # the steady cycle: its mean, no breakaway, settled (summarize_orbit)
+        summary = {**summarize_orbit(fe.orbit, scene), "wall_time_s": info["wall_time_s"]}
+    else:
+        summary = summarize(fe.series, scene, info["wall_time_s"])
+        if "periodic" in info:
+            summary["periodic"] = info["periodic"]
+    fe_summary = {**summary,
                   "dofs": info["dofs"], "contact_nodes": info["contact_nodes"],
                   "integrator": info["integrator"], "integrator_choice": info["integrator_choice"],
                   "steps": info["steps"], "stopped_early": info["stopped_early"],
                   "stop_time_s": info["stop_time_s"], "saving": info["saving"],
                   "normal_force": info["F_n_kind"]}
-    if info["F_n_kind"] == "transient":     # its average holds part of it (fem/normal_swing.py)
+    if info["F_n_kind"] == "transient" and not answered:  # its average holds part of it
+                                                            # (fem/outputs/normal_swing.py)
         fe_summary["settled"] = False
     document = {"fe": fe_summary, "analytic": analytic,
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}

@@ -56,9 +56,11 @@ def drive_force_history(runs: dict, scene, path) -> None:
     drive_force_figure(runs, scene).savefig(path, **RUN_PNG)
 
 
-def friction_last_cycles(runs: dict, scene, path) -> None:
-    """F_x and F_y over the last vibration cycles (Fig 8 / Fig 11 analogue)."""
-    fig, ax = figure((7, 4), RUN_DPI)
+def friction_last_cycles_figure(runs: dict, scene):
+    """F_x and F_y over the last vibration cycles (Fig 8 / Fig 11 analogue). The curves
+    sweep the whole height every cycle, so the legend stands below the axes, where it
+    hides none of them."""
+    fig, ax = figure((7, 4.6), RUN_DPI)
     duration = PLOT_CYCLES / scene.vibration.f
     for label, series in runs.items():
         tail = series.tail(duration)
@@ -66,9 +68,14 @@ def friction_last_cycles(runs: dict, scene, path) -> None:
         ax.plot(tail.t, tail.F_y, lw=1.0, ls="--", label=f"$F_y$ {label}")
     ax.set(xlabel="time t (s)", ylabel="friction force (N)",
            title=f"friction over the last {PLOT_CYCLES} cycles")
-    ax.legend(fontsize=8)
-    fig.subplots_adjust(**RUN_MARGINS)
-    fig.savefig(path, **RUN_PNG)
+    ax.legend(fontsize=8, ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.15))
+    fig.subplots_adjust(**{**RUN_MARGINS, "bottom": 0.28})
+    return fig
+
+
+def friction_last_cycles(runs: dict, scene, path) -> None:
+    """friction_last_cycles_figure() as PNG."""
+    friction_last_cycles_figure(runs, scene).savefig(path, **RUN_PNG)
 
 
 def _column(rows: list, key: str) -> np.ndarray:

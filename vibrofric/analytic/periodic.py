@@ -30,7 +30,6 @@ Peletan et al., Nonlinear Dyn. 78 (2014), who use harmonic balance alongside.
 """
 
 import math
-from dataclasses import dataclass, field
 from time import perf_counter
 
 import numpy as np
@@ -38,6 +37,7 @@ import numpy as np
 from ..core.base_motion import base_displacement, vibration_axis
 from ..core.law_limits import divergence_force
 from ..core.series import PLOT_CYCLES, TimeSeries
+from ..core.shooting import STABLE, Orbit, cycle_steps, instability
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 
@@ -49,7 +49,6 @@ TOLERANCE = 1e-10        # converged: every scaled residual component below this
 MAX_NEWTON = 40          # Newton iterations before giving up (each one 1 + n cycles)
 FD_STEP = 1e-7           # finite-difference step, relative to each unknown's scale: about the
                          # square root of the rounding error of one cycle (~1e-14 relative)
-STABLE = 1.0 - 1e-6      # a Floquet multiplier modulus at or above this is not a stable orbit
 PRESLIDE_STEPS = 1_000_000  # at most this many law updates to reach steady sliding (initial guess)
 
 
@@ -162,57 +161,6 @@ def preslide(state, slip, F_N, params, dt, max_steps):
 
 
 CYCLES = {"coupled": coupled_cycle, "longitudinal": longitudinal_cycle}
-
-
-def cycle_steps(scene) -> tuple:
-    """(n, dt): the whole number of steps n of one base cycle nearest 1/(f time.dt),
-    and the step that puts exactly n in a cycle (time.dt itself where 1/(f dt) is whole)."""
-    exact = 1.0 / (scene.vibration.f * scene.time.dt)
-    n = max(1, int(round(exact)))
-    if abs(exact - n) <= 1e-9 * exact:
-        return n, scene.time.dt
-    return n, 1.0 / (scene.vibration.f * n)
-
-
-@dataclass
-class Orbit:
-    """What the shooting found.
-
-    converged            Newton's scaled residual reached TOLERANCE
-    stable               every Floquet multiplier inside the unit circle (STABLE)
-    z                    the state at the start of a cycle (see X, VX, ... LAW)
-    cycle                (steps, 8) the steady cycle's rows (COLUMNS; x in the drive's frame)
-    newton_iterations, cycles_integrated, residual (the largest scaled component)
-    floquet              the multipliers, largest modulus first
-    dt, steps            the step used and steps in a cycle
-    solver_time_s        the shooting's wall time (compiled code loaded before)
-    """
-
-    converged: bool
-    stable: bool
-    z: np.ndarray
-    cycle: np.ndarray
-    newton_iterations: int
-    cycles_integrated: int
-    residual: float
-    floquet: np.ndarray
-    dt: float
-    steps: int
-    solver_time_s: float = 0.0
-    reason: str = ""
-    extra: dict = field(default_factory=dict)
-
-    @property
-    def floquet_max_modulus(self) -> float:
-        return float(np.max(np.abs(self.floquet))) if self.floquet.size else math.nan
-
-    @property
-    def period_doubling(self) -> bool:
-        """The largest multiplier near -1: a period-2 response branches off here."""
-        if not self.floquet.size:
-            return False
-        lead = self.floquet[0]
-        return bool(abs(lead.imag) < 1e-6 and lead.real <= -STABLE)
 
 
 class CycleMap:
@@ -389,18 +337,11 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
     if converged:
         phi(z, cycle)
     stable = converged and bool(multipliers.size == 0 or np.max(np.abs(multipliers)) < STABLE)
-    orbit = Orbit(converged, stable, z, cycle, iterations, phi.cycles, norm, multipliers,
-                  phi.dt, phi.steps, perf_counter() - begin, reason)
     if converged and not stable:
-        if orbit.period_doubling:
-            kind = "unstable by period doubling (a multiplier beyond -1)"
-        elif orbit.floquet_max_modulus < 1.0 + 1e-6:
-            kind = "not attracting (a multiplier on the unit circle: an undamped mode)"
-        else:
-            kind = "unstable"
-        orbit.reason = (f"the periodic orbit is {kind}: largest Floquet multiplier modulus "
-                        f"{orbit.floquet_max_modulus:.6g}")
-    return orbit
+        reason = instability(multipliers, STABLE)
+    return Orbit(converged, stable, z, cycle, iterations, phi.cycles, norm, multipliers,
+                 phi.dt, phi.steps, perf_counter() - begin, reason,
+                 {"start": "steady sliding" if start is None else "neighbour"})
 
 
 def load_cycle(scene, stepper: str = "coupled") -> None:

@@ -6,6 +6,7 @@ import numpy as np
 
 from ..core.errors import NumericalError
 from ..core.series import TimeSeries, averaging_steps
+from ..core.shooting import periodic_block
 
 
 def cycle_average(values: np.ndarray, steps: int) -> float:
@@ -79,7 +80,7 @@ def unsettled_warning(summary: dict, label: str = "") -> str | None:
         return None
     what = f"{label} " if label else ""
     drift = summary["window_drift"]
-    if summary.get("normal_force") == "transient":     # an FE run's (fem/normal_swing.py)
+    if summary.get("normal_force") == "transient":     # an FE run's (fem/outputs/normal_swing.py)
         moved = ("the block's free vibration on its contact was still decaying as the "
                  "averaging window began (the summed normal force)")
     elif drift is None:
@@ -88,28 +89,6 @@ def unsettled_warning(summary: dict, label: str = "") -> str | None:
         moved = f"its mean moved by {drift:.2%} between the last two averaging windows"
     return (f"warning: the {what}cycle-averaged drive force has not settled: {moved} "
             f"(time.settle_tolerance {summary['settle_tolerance']:g}); lengthen time.T")
-
-
-def periodic_block(orbit, scene) -> dict:
-    """The summary's "periodic" block: how the shooting went (periodic.Orbit, or None
-    where it was not tried) and which method produced the answer."""
-    if orbit is None:
-        return {"method": "transient", "converged": False, "newton_iterations": 0,
-                "cycles_integrated": 0, "residual": None, "floquet_max_modulus": None,
-                "dt": scene.time.dt, "steps_per_cycle": None,
-                "reason": "no vibration: the steady state is steady sliding"}
-    periodic = orbit.converged and orbit.stable
-    return {"method": "periodic" if periodic else "transient",
-            "converged": orbit.converged,
-            "newton_iterations": orbit.newton_iterations,
-            "cycles_integrated": orbit.cycles_integrated,
-            "residual": float(orbit.residual) if math.isfinite(orbit.residual) else None,
-            "floquet_max_modulus": (float(orbit.floquet_max_modulus) if orbit.floquet.size else None),
-            "period_doubling": orbit.period_doubling,
-            "dt": float(orbit.dt),
-            "dt_adjusted": bool(orbit.dt != scene.time.dt),
-            "steps_per_cycle": orbit.steps,
-            "reason": orbit.reason}
 
 
 def summarize_orbit(orbit, scene) -> dict:

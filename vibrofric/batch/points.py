@@ -10,6 +10,10 @@
     scene.toml    the point's scene as run (none if its values make no valid scene)
     fe points also: timeseries.csv, analytic_timeseries.csv and, if
                    fem.output_every > 0, the ParaView series paraview/block.pvd
+    orbit.npy     with time.method periodic or auto, where the point's steady cycle
+                   answered: its orbit state (the FE one for an FE point), from
+                   which the next point of the grid starts (continuation; read
+                   back by a resumed sweep, neighbour_orbit)
 
     checks.json   the size and SHA-256 of each of the files above, written last
 
@@ -25,6 +29,8 @@ import math
 import traceback
 from dataclasses import dataclass
 from pathlib import Path
+
+import numpy as np
 
 from .. import output
 from .. import scene as scene_module
@@ -82,36 +88,43 @@ def _describe(err: Exception) -> str:
     return f"{PLAIN_ERRORS.get(type(err), type(err).__name__)}: {err}"
 
 
-def _run_analytic(scene, directory: Path) -> dict:
+def _run_analytic(scene, directory: Path, start=None) -> tuple:
     """The analytic stepper: only scene.toml and the summary are kept, as a
     125-point sweep takes seconds (``vibrofric analytic`` on the point's
-    scene.toml gives the time series and plots)."""
-    from ..analytic.solve import solve
+    scene.toml gives the time series and plots). Returns (the result keys, the
+    orbit state or None)."""
+    from ..analytic.solve import solve_with_orbit
 
-    _, summary = solve(scene)
+    _, summary, orbit = solve_with_orbit(scene, start=start)
     output.write_scene(directory, scene)
-    return {"result": summary}
+    return {"result": summary}, orbit
 
 
-def _run_fe(scene, directory: Path) -> dict:
+def _run_fe(scene, directory: Path, start=None) -> tuple:
     """The FE run beside the analytic stepper, with BLAS on one thread: the
     sweep already runs a point on every core, and an OpenBLAS thread left
     spinning after a set-up's product takes the core of the point beside it
     (the Fig 12 study: 123 s with them, 108 s without; every F_dv/F_d0 moved
-    by at most 4e-8 of itself, as the set-up's products round differently)."""
-    from ..fem.linalg import one_blas_thread
+    by at most 4e-8 of itself, as the set-up's products round differently).
+    Returns (the result keys, the FE orbit state or None)."""
+    from ..fem.model.linalg import one_blas_thread
     from ..fe_beside_analytic import fe_beside_analytic
 
     with one_blas_thread():
-        done = fe_beside_analytic(scene, directory)
-    return {"result": done.document, "fe_info": done.fe_info}
+        done = fe_beside_analytic(scene, directory, start=start)
+    periodic = done.document["fe"].get("periodic") or {}
+    orbit = done.fe.orbit.z if periodic.get("method") == "periodic" else None
+    return {"result": done.document, "fe_info": done.fe_info}, orbit
 
 
 RUNNERS = {"analytic": _run_analytic, "fe": _run_fe}
+ORBIT = "orbit.npy"
 
 
-def run_point(point: Point, mode: str) -> None:
+def run_point(point: Point, mode: str, start=None):
     """Run one point and write its directory whole: its results, or its error.
+    ``start``: a neighbour's orbit state (time.method periodic or auto). Returns
+    the point's own orbit state where its steady cycle answered, else None.
 
     Any exception from the run fails this point only (recorded with its
     message; with a traceback if it is not a plain SceneError or
@@ -121,11 +134,13 @@ def run_point(point: Point, mode: str) -> None:
     if point.scene is not None:
         try:
             with output.staged(point.directory) as stage:
-                ran = RUNNERS[mode](point.scene, stage)
+                ran, orbit = RUNNERS[mode](point.scene, stage, start)
                 output.write_summary(stage, {"point": point.values, "mode": mode, **ran})
+                if orbit is not None:
+                    np.save(stage / ORBIT, orbit)
                 output.write_checks(stage)
                 stop_if_interrupted()  # a run a swallowed interrupt cut short is not kept
-            return
+            return orbit
         except Exception as err:  # a failed point is recorded, and the sweep goes on
             stop_if_interrupted()  # unless the failure is an interrupt's doing
             failure = {ERROR: _describe(err)}
@@ -136,6 +151,27 @@ def run_point(point: Point, mode: str) -> None:
             output.write_scene(stage, point.scene)
         output.write_summary(stage, {"point": point.values, "mode": mode, **failure})
         output.write_checks(stage)
+    return None
+
+
+def run_in_sequence(points: list, mode: str, start=None) -> None:
+    """Run ``points`` (contiguous in the grid) one after the other, each from the orbit
+    of the one before where that one's steady cycle answered (continuation), the
+    first from ``start``."""
+    for point in points:
+        start = run_point(point, mode, start)
+
+
+def neighbour_orbit(directory: Path):
+    """The orbit state a finished point's directory holds (ORBIT), or None: where
+    there is none, or the directory does not check out."""
+    path = directory / ORBIT
+    if not path.is_file() or not output.checks_out(directory):
+        return None
+    try:
+        return np.load(path)
+    except (OSError, ValueError):
+        return None
 
 
 def _ratios_make_sense(result: dict) -> bool:

@@ -22,9 +22,10 @@ from tqdm import tqdm
 from .. import budget, output, plots
 from ..grid import point_name
 from ..parallel import default_workers, interruptible, run_on_pool
+from ..analytic.continuation import chunks
 from . import mpi
 from .ledger import Ledger
-from .points import ERROR, plan, run_point
+from .points import ERROR, neighbour_orbit, plan, run_in_sequence, run_point
 
 RATIO = "F_dv_over_F_d0"
 
@@ -71,15 +72,23 @@ class Outcome:
         rerun = f", {self.damaged} found damaged and rerun" if self.damaged else ""
         line = (f"sweep: {len(self.records)} points ({self.reused} reused{rerun}), "
                 f"{len(self.failed)} failed, {len(self.unsettled)} unsettled, {self.wall_time_s:.1f} s")
-        methods = [r["periodic"]["method"] for r in self.records
-                   if ERROR not in r and isinstance(r.get("periodic"), dict)]
-        if methods:   # time.method periodic or auto (analytic/periodic.py)
+        methods = [method(r) for r in self.records if ERROR not in r]
+        methods = [m for m in methods if m is not None]
+        if methods:   # time.method periodic or auto (analytic/periodic.py, fem/integrators/periodic.py)
             line += (f"; {methods.count('periodic')} answered by their periodic orbit, "
                      f"{methods.count('transient')} stepped")
         worst = self.worst_fe_error()
         if worst is not None:
             line += f"; worst |FE - analytic| / analytic {worst[0]:.2%} at {worst[1]}"
         return f"{line}; results in {self.out}"
+
+
+def method(record) -> str | None:
+    """Which method answered a finished point ("periodic" or "transient"; an FE point's
+    FE run), or None where the scene's time.method was transient."""
+    summary = record["fe"] if isinstance(record.get("fe"), dict) else record
+    periodic = summary.get("periodic")
+    return periodic.get("method") if isinstance(periodic, dict) else None
 
 
 class Progress:
@@ -150,6 +159,40 @@ def _figures(ledger: Ledger, keys: list, scene, out: Path) -> None:
             draw(partial)
 
 
+def _run_by_continuation(todo: list, ledger: Ledger, mode: str, workers: int, finished) -> None:
+    """time.method periodic or auto: the points to run cut into contiguous runs of the
+    grid (one with one worker; 4 a worker on a pool, as batch.sweep), each run in
+    order on one worker, every point from its predecessor's orbit
+    (points.run_in_sequence), the first from the orbit its grid predecessor left on
+    disk if that one has finished by the time the run starts (an earlier run's,
+    or the run before on this worker)."""
+    order = {point.name: k for k, point in enumerate(ledger.points)}
+    parts = 1 if workers == 1 else 4 * workers
+    tasks = []
+    for part in chunks(len(todo), parts):
+        points = [todo[i] for i in part]
+        before = order[points[0].name] - 1
+        tasks.append((points, mode, ledger.points[before].directory if before >= 0 else None))
+
+    def done(task, _result=None):
+        for point in task[0]:
+            finished(point)
+
+    if workers > 1 and len(tasks) > 1:
+        run_on_pool(_run_task, tasks, workers, done)
+    else:
+        for task in tasks:
+            _run_task(task)
+            done(task)
+
+
+def _run_task(task) -> None:
+    """One contiguous run of points (a pool's task: a module-level function)."""
+    points, mode, predecessor = task
+    start = neighbour_orbit(predecessor) if predecessor is not None else None
+    run_in_sequence(points, mode, start)
+
+
 def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = False) -> Outcome:
     """Run ``mode`` ("analytic" or "fe") at every point of ``grid`` into ``out``
     (default results/<scene>-sweep-<time>/), resuming what is there, on
@@ -189,9 +232,12 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
 
     run = functools.partial(run_point, mode=mode)
     workers = workers or default_workers()
+    continued = scene.time.method != "transient" and comm is None
     try:
         with interruptible():
-            if comm is None and workers > 1 and len(todo) > 1:
+            if continued:
+                _run_by_continuation(todo, ledger, mode, workers, finished)
+            elif comm is None and workers > 1 and len(todo) > 1:
                 run_on_pool(run, todo, workers, finished)
             else:
                 for point in todo if comm is None else mpi.share(todo, comm):

@@ -1,5 +1,7 @@
 """What the periodic solver saves: steps and solver time against the transient settled
-to a tolerance (Fig 7), the Fig 12 analytic study, and the cost against steps per cycle.
+to a tolerance (Fig 7), the Fig 12 analytic study, and the cost against steps per cycle;
+for the FE integrators (fe_fig7) the same on Fig 7, and the cost against the contact's
+stiffness (steps a cycle) and the mesh.
 
 Measurements for ``vibrofric bench`` and benchmarks/periodic_vs_transient.py;
 the numbers themselves go in docs/periodic.md, with the machine named.
@@ -85,8 +87,64 @@ def steps_per_cycle(dts=(1e-6, 5e-7, 2.5e-7)) -> list:
     return rows
 
 
-def measure() -> dict:
-    return {"fig7": fig7(), "fig12": fig12(), "steps_per_cycle": steps_per_cycle()}
+# The FE cases: (label, integrator, time.dt, mesh, more scene values). k_t x 100 needs a
+# step 10x finer for the implicit integrators' trusted slip per step (contact_solve).
+FE_CASES = [("reduced", "reduced", 1e-5, "coarse", {}),
+            ("implicit", "implicit", 1e-5, "coarse", {}),
+            ("explicit", "explicit", 1e-6, "coarse", {}),
+            ("reduced, k_t x 100", "reduced", 1e-6, "coarse", {"contact.k_t": 8e9}),
+            ("reduced, medium mesh", "reduced", 1e-5, "medium", {})]
+
+
+def fe_settled_steps(series, scene, answer: float, tolerance: float) -> int:
+    """Steps from t = 0 after which an FE run's averaging window ends within ``tolerance``
+    of ``answer`` and stays there (its series kept at every step)."""
+    window = averaging_steps(scene)
+    means = np.convolve(series.F_d, np.ones(window) / window, mode="valid")
+    off = np.flatnonzero(np.abs(means / answer - 1.0) > tolerance)
+    return int((off[-1] + 1 if off.size else 0) + window)
+
+
+def fe_fig7(cases=FE_CASES, T: float = 0.45, tolerance: float = 1e-4) -> list:
+    """Fig 7 with each FE integrator: the periodic run's solver time and cycles beside the
+    transient's: the steps after the vibration starts it needs to come within
+    ``tolerance`` of the orbit's F_dv (stepped to T, 0.31 s after t_on), at its cost
+    per vibrated step (the loop time of a run to T less that of a run to T - 0.1 s,
+    over the steps between: a step before t_on is cheaper)."""
+    from ..fem import run_fe
+
+    scene = scene_module.load(SCENES / "longitudinal.toml")
+    rows = []
+    for label, integrator, dt, mesh, more in cases:
+        base = scene.with_values({"fem.integrator": integrator, "time.dt": dt, "fem.mesh": mesh,
+                                  "fem.output_every": 0, "time.T": T, **more})
+        periodic = base.with_values({"time.method": "periodic"})
+        run_fe(periodic)                                       # compiled and cached, then timed
+        shot = run_fe(periodic)
+        stepped = run_fe(base.with_values({"time.series_dt": dt}))
+        shorter = run_fe(base.with_values({"time.T": T - 0.1}))
+        per_step = ((stepped.info["loop_time_s"] - shorter.info["loop_time_s"])
+                    / (stepped.info["steps"] - shorter.info["steps"]))
+        answer = float(np.mean(shot.orbit.cycle[:, 1]))
+        steps = fe_settled_steps(stepped.series, base, answer, tolerance)
+        after_t_on = steps - int(round(base.vibration.t_on / dt))
+        rows.append({"case": label, "dt": dt, "steps_per_cycle": shot.orbit.steps,
+                     "unknowns": int(shot.orbit.z.size), "cycles": shot.orbit.cycles_integrated,
+                     "periodic_s": shot.orbit.solver_time_s, "setup_s": shot.info["setup_time_s"],
+                     "transient_loop_s": stepped.info["loop_time_s"],
+                     "transient_steps": stepped.info["steps"], "step_us": per_step * 1e6,
+                     "settled_after_t_on": after_t_on, "settled_loop_s": per_step * after_t_on,
+                     "rel_difference": abs(answer / float(np.mean(
+                         stepped.series.F_d[-averaging_steps(base):])) - 1.0),
+                     "floquet": shot.info["periodic"]["floquet_max_modulus"]})
+    return rows
+
+
+def measure(fe_cases=tuple(case[0] for case in FE_CASES)) -> dict:
+    """Every row; the FE ones for the FE_CASES labelled ``fe_cases``."""
+    cases = [case for case in FE_CASES if case[0] in fe_cases]
+    return {"fig7": fig7(), "fig12": fig12(), "steps_per_cycle": steps_per_cycle(),
+            "fe": fe_fig7(cases) if cases else []}
 
 
 def markdown(result: dict) -> list:
@@ -110,4 +168,17 @@ def markdown(result: dict) -> list:
     for steps, cycles, solver in result["steps_per_cycle"]:
         lines.append(f"| Fig 7 at {steps} steps a cycle | | {cycles} cycles, "
                      f"{solver * 1e3:.1f} ms |")
+    if result.get("fe"):
+        lines += ["", "FE, Fig 7 (coarse mesh unless said), one core, set-up apart (the same "
+                  "for both):", "",
+                  "| case | dt, steps a cycle | unknowns | transient: steps after t_on to F_dv "
+                  "within 1e-4, at its us a vibrated step | periodic: cycles (steps), solver | "
+                  "periodic vs transient to T = 0.45 s | largest multiplier |",
+                  "|---|---|---|---|---|---|---|"]
+        for r in result["fe"]:
+            lines.append(f"| {r['case']} | {r['dt']:g} s, {r['steps_per_cycle']} | {r['unknowns']} | "
+                         f"{r['settled_after_t_on']} ({r['step_us']:.0f} us: "
+                         f"{r['settled_loop_s']:.2f} s) | {r['cycles']} "
+                         f"({r['cycles'] * r['steps_per_cycle']}), {r['periodic_s']:.2f} s | "
+                         f"{r['rel_difference']:.1e} | {r['floquet']:.4f} |")
     return lines

@@ -39,6 +39,7 @@ class Plan:
     breakdown_cases: tuple = ()  # (integrator, mesh, dt): a step's parts against the roofline
     mesh_study: tuple = ()     # (integrator, dt, (level, ...) coarse to fine): the spatial error
     periodic: bool = False     # the periodic solver against the transient (periodic_vs_transient.py)
+    periodic_fe: tuple = ()    # its FE cases (periodic_vs_transient.FE_CASES' labels)
 
 
 _MESH_STEPS = (("tiny", 2e-6), ("coarse", 1e-6), ("medium", 5e-7))  # explicit: below each stable step
@@ -68,6 +69,7 @@ QUICK = Plan(
                      ("reduced", "coarse", 1e-5)),
     mesh_study=("reduced", 1e-5, MESH_LEVELS),
     periodic=True,
+    periodic_fe=("reduced",),
 )
 
 FULL = Plan(
@@ -89,6 +91,7 @@ FULL = Plan(
                                              ("reduced", "medium", 1e-5)),
     mesh_study=("reduced", 1e-5, MESH_LEVELS + ("fine",)),
     periodic=True,
+    periodic_fe=("reduced", "implicit", "explicit", "reduced, k_t x 100", "reduced, medium mesh"),
 )
 
 

@@ -7,4 +7,6 @@
     law_limits   the friction law's limits every stepper checks: the force past which
                  an update has diverged, the sliding length, the slip-resolving step
     errors       NumericalError, and the refusals (Refusal) of a scene a model cannot run
+    shooting     the periodic steady state as both models' solvers shoot for it: the
+                 Orbit, its Floquet multipliers, Newton-Picard for the FE state
 """

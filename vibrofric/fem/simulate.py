@@ -1,16 +1,18 @@
-"""Simulate a scene with the FE model: ``run_fe(scene, comm=None, vtk_dir=None) -> FEResult``."""
+"""Simulate a scene with the FE model: ``run_fe(scene, comm=None, vtk_dir=None) -> FEResult``:
+stepped through time.T, or (time.method periodic / auto) answered by its steady cycle."""
 
 import math
 import time
 from dataclasses import dataclass, field
 
 from ..core.series import RecordPlan, TimeSeries, averaging_steps, full_resolution_steps
+from ..core.shooting import periodic_block
 from ..meshes import level_counts
-from . import integrators
-from .model import build_model
-from .normal_swing import judge
-from .paraview import FrameWriter, node_fields
-from .recording import extra_columns
+from .integrators import periodic, registry
+from .model.fe_model import build_model
+from .outputs.normal_swing import judge
+from .outputs.paraview import FrameWriter, node_fields
+from .outputs.recording import COLUMNS, extra_columns
 
 
 @dataclass
@@ -22,16 +24,19 @@ class FEResult:
             the preload), x_b, y_b, and extra["F_n"] (summed normal reaction),
             with fem.energy also extra[recording.ENERGY]; the rows the analytic
             stepper keeps up to the step the run ended at (early steady
-            state: steady.py), so summarize() applies as is
+            state: outputs/steady.py), so summarize() applies as is
     info    what the run was and cost (run_info)
     fields  the node fields at the last step, as in the ParaView frames
             (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3)
             and "contact_nodes" (indices)
+    orbit   with time.method "periodic" or "auto": the shooting's core.shooting.Orbit
+            (whether or not it answered: info["periodic"]["method"] says), else None
     """
 
     series: TimeSeries
     info: dict = field(default_factory=dict)
     fields: dict = field(default_factory=dict, repr=False)
+    orbit: object = None
 
 
 def _communicator(comm):
@@ -55,26 +60,46 @@ class Clock:
     wall_s: float
 
 
-def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
+def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResult:
     """Run the scene's finite-element model (docs/model.md section 5).
 
     comm     an MPI communicator of one process (default MPI.COMM_SELF)
     vtk_dir  if given and fem.output_every > 0: write vtk_dir/block.pvd, a frame
-             every fem.output_every steps (paraview.py)
+             every fem.output_every steps (outputs/paraview.py); a run answered by its
+             steady cycle writes periodic.FRAMES_PER_CYCLE + 1 frames of that cycle
     progress if given, called as progress(t_done_s, t_total_s) every few
              thousand steps of the time loop (simulated seconds)
+    start    with time.method "periodic" or "auto": a neighbouring point's orbit
+             state (FEResult.orbit.z) to shoot from (sweeps: continuation)
+
+    With time.method "periodic" or "auto" (and vibration) the steady cycle is shot
+    for first (integrators/periodic.py); where that does not converge or the orbit is not
+    stable, the scene is stepped through T as with "transient". info["periodic"]
+    (core.shooting.periodic_block) says which answered.
 
     Raises core.errors.Refusal for a scene the model cannot run, before
     the first step, and NumericalError for a run that went wrong (NaN, a
     diverging asperity, the normal force blowing up or ringing). The result's
     info is run_info's.
     """
-    start = time.perf_counter()
+    start_time = time.perf_counter()
     comm = _communicator(comm)
-    prepare = integrators.select(scene)
+    prepare = registry.select(scene)
     model = build_model(scene, comm)
-    integrator = prepare(scene, model)
-    setup_time = time.perf_counter() - start
+    orbit = None
+    if scene.time.method != "transient" and scene.vibrated:
+        shot_scene, steps = periodic.periodic_scene(scene)
+        integrator = prepare(shot_scene, model)
+        setup_time = time.perf_counter() - start_time
+        orbit, phi = periodic.find_orbit(integrator, model, steps, start)
+        if orbit.converged and orbit.stable:
+            return _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir,
+                                 start_time, setup_time)
+        if shot_scene is not scene:
+            integrator = prepare(scene, model)
+    else:
+        integrator = prepare(scene, model)
+    setup_time = time.perf_counter() - start_time
 
     writer = _frame_writer(scene, model, vtk_dir)
     try:
@@ -85,9 +110,45 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None) -> FEResult:
     series = TimeSeries.from_table(run.table, extra_columns(scene.fem.energy))
     swing = judge(series.extra["F_n"][-averaging_steps(scene):], scene.time.dt,
                   scene.vibration.f, scene.contact.F_N, model.beta)
-    clock = Clock(setup_time, run.stats["loop_time_s"], time.perf_counter() - start)
+    clock = Clock(setup_time, run.stats["loop_time_s"], time.perf_counter() - start_time)
     info = run_info(scene, model, integrator, run.stats, swing, writer, clock)
-    return FEResult(series=series, info=info, fields=last_fields(model, run.state))
+    if orbit is not None:
+        info["periodic"] = periodic_block(orbit, scene)
+    return FEResult(series=series, info=info, fields=last_fields(model, run.state), orbit=orbit)
+
+
+def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, start_time,
+                  setup_time) -> FEResult:
+    """The FEResult of a run answered by its steady cycle (``orbit``, shot on
+    ``shot_scene``: the scene at a step that puts a whole number in a cycle): the
+    series the cycle repeated over the last two averaging windows (at least the
+    plotted cycles) ending at time.T, the ParaView frames of one cycle, the fields at
+    its end. Its steps are the cycles the shooting integrated; its loop time the
+    shooting's."""
+    cycles = max(1, math.ceil(full_resolution_steps(shot_scene) / orbit.steps))
+    series = TimeSeries.from_table(periodic.steady_table(orbit, shot_scene, cycles),
+                                   extra_columns(scene.fem.energy))
+    writer = _frame_writer(scene, model, vtk_dir)
+    try:
+        last = periodic.cycle_frames(phi, orbit, writer)
+    finally:
+        if writer is not None:
+            writer.close()
+    f_n = orbit.cycle[:, COLUMNS.index("F_n")]
+    steps = orbit.cycles_integrated * orbit.steps
+    stats = {"steps": steps, "steps_planned": scene.steps, "stopped_early": False,
+             "stop_time_s": None, "saving": 1.0 - steps / scene.steps,
+             "steady_tolerance": scene.time.steady_tolerance,
+             "steady_cycles": scene.time.steady_cycles or scene.averaged_cycles,
+             "steady_change": None,
+             "F_n_min": float(f_n.min()), "F_n_max": float(f_n.max()),
+             "F_n_min_after_t_on": float(f_n.min()), "F_n_max_after_t_on": float(f_n.max())}
+    swing = judge(series.extra["F_n"][-averaging_steps(shot_scene):], shot_scene.time.dt,
+                  scene.vibration.f, scene.contact.F_N, model.beta)
+    clock = Clock(setup_time, orbit.solver_time_s, time.perf_counter() - start_time)
+    info = run_info(shot_scene, model, integrator, stats, swing, writer, clock)
+    info["periodic"] = periodic_block(orbit, scene)
+    return FEResult(series=series, info=info, fields=last_fields(model, last), orbit=orbit)
 
 
 def _frame_writer(scene, model, vtk_dir):
@@ -114,10 +175,10 @@ def run_info(scene, model, integrator, stats: dict, swing, writer, clock: Clock)
 
     model_info's keys; the steps (steps run, steps_planned, stopped_early,
     stop_time_s: None if it ran to time.T, saving: the fraction of the planned
-    steps not run, steady_tolerance, steady_cycles, steady_change: steady.py);
+    steps not run, steady_tolerance, steady_cycles, steady_change: outputs/steady.py);
     normal_force_info's keys; frames and vtk (the .pvd path or None);
     setup_time_s, loop_time_s, wall_time_s; what the integrator's set-up reports
-    (implicit.py ImplicitRun.info, reduction.py ReducedRun.info) and its
+    (integrators/implicit.py ImplicitRun.info, integrators/reduction.py ReducedRun.info) and its
     iterations_* statistics.
     """
     return {
@@ -134,7 +195,7 @@ def run_info(scene, model, integrator, stats: dict, swing, writer, clock: Clock)
     }
 
 
-# The integrators' statistics of the steps run (time_loop, steady.py), as they report them.
+# The integrators' statistics of the steps run (time_loop, outputs/steady.py), as they report them.
 STEP_KEYS = ("steps", "steps_planned", "stopped_early", "stop_time_s", "saving",
              "steady_tolerance", "steady_cycles", "steady_change")
 

@@ -40,7 +40,7 @@ from pathlib import Path
 from numba import njit
 
 from ..disk_cache import locked
-from .contract import FASTMATH
+from .contract import BUILT_IN, FASTMATH, LawError
 
 KEPT_VERSIONS = 8  # compiled versions of a loop kept on disk (laws in use, package edits)
 
@@ -83,10 +83,30 @@ class LawKernel:
 
     def prepared(self, law, args, what: str):
         """This function compiled with ``law`` for ``args``' types, loaded or compiled now
-        (announced: "compiling <what> for <law>, first run only"); see the module."""
+        (announced: "compiling <what> for <law>, first run only"); see the module. For a
+        user's law, an exception out of it is the law's (blamed_on_law)."""
         dispatcher = self.for_law(law)
         ready(dispatcher, args, f"{what} for {law_label(law)}")
-        return dispatcher
+        return dispatcher if law.name in BUILT_IN else blamed_on_law(law, dispatcher)
+
+
+def blamed_on_law(law, dispatcher):
+    """``dispatcher`` with an exception raised in it turned into a LawError naming the
+    law: a user's law runs bounds-checked, and the loops themselves raise nothing,
+    so an IndexError or a ``raise`` there is the law's, on a state or an input its
+    first steps (checked when it was loaded: law_check) did not reach, such as an FE
+    node's area share below 1 or a count of calls."""
+    def run(*args):
+        try:
+            return dispatcher(*args)
+        except IndexError:
+            raise LawError(f"{law.name}: update indexed outside its state (STATE_SIZE = "
+                           f"{law.state_size}) or its parameters during the run, past the "
+                           "first steps checked when it was loaded") from None
+        except Exception as err:
+            raise LawError(f"{law.name}: update raised {type(err).__name__}: {err} during the "
+                           "run, past the first steps checked when it was loaded") from None
+    return run
 
 
 _CALLED = {}

@@ -48,11 +48,11 @@ frequencies; the difference of the two sides measures that numerical dissipation
 
 from numba import njit
 
-from ..friction_law import law_kernel
-from ..friction_law.contract import FASTMATH
+from ...friction_law import law_kernel
+from ...friction_law.contract import FASTMATH
+from ..model.drive import prescribed_position
+from ..model.linalg import apply
 from . import recording
-from .drive import prescribed_position
-from .linalg import apply
 
 # sums[]: the accumulated inputs and dissipations (each recorded row copies them into its
 # columns recording.W_DRIVE ... D_DAMP: ``record``)

@@ -5,15 +5,15 @@ With the lumped (diagonal) mass M, one step from t_n to t_{n+1} = t_n + dt is
     f_n       = f_ext - K (u_n + beta v_n)                  elastic + Rayleigh damping C = beta K
               + sum_i [N_i e_z - F_i]_n                     contact: normal (penalty spring and its
                                                             share beta k_pen w_i of the damping)
-                                                            and friction (contact.py)
+                                                            and friction (model/contact.py)
               + sum_a w_a F_d,n e_x                         drive, F_d,n = k_d (v_d t_n - x_A,n) (eq 17)
     v_{n+1/2} = v_{n-1/2} + dt M^-1 f_n
     u_{n+1}   = u_n + dt v_{n+1/2}
 
 (the damping uses the lagging velocity v_{n-1/2}, as Abaqus does, which keeps
-the step explicit; stable while dt <= dt_crit, stability.py). Then the base
+the step explicit; stable while dt <= dt_crit, model/stability.py). Then the base
 moves to its position at t_{n+1} (eqs 23-25), every contact node's normal force
-and asperity are updated from its displacement increment (contact.py, the
+and asperity are updated from its displacement increment (model/contact.py, the
 VFRIC analogue), and F_d = k_d (v_d t_{n+1} - x_A,n+1) is recorded. A node
 that slides more than contact.SUBSTEP_ONSET sliding lengths in the step (a
 stiff contact) runs its friction law on sub-steps of the step's increments.
@@ -25,7 +25,7 @@ force from the start of the step, friction force from the previous update.
 The whole step (sparse product with K in 3x3 node blocks, contact, friction,
 drive, base, recording, checks, early steady state) is one numba loop; Python
 only sees the run again every ``fem.output_every`` steps, to write a ParaView
-frame. Energy accounting (fem.energy) is the implicit integrators' (energy.py).
+frame. Energy accounting (fem.energy) is the implicit integrators' (outputs/energy.py).
 """
 
 import math
@@ -33,17 +33,18 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.base_motion import base_displacement, vibration_axis
-from ..friction_law import law_kernel
-from ..friction_law.contract import FASTMATH
-from ..core.errors import NoEnergyBalance
-from ..core.law_limits import SLIP_PER_STEP, slip_per_step, sliding_length
-from . import step_cost, trouble
-from .contact import SUBSTEP_ONSET, contact_forces
-from .drive import attachment_position, prescribed_position
-from .linalg import apply, bsr
-from .model import check_step
-from .recording import COS, SIN, XB, YB, finish_step, keep_step
+from ...core.base_motion import base_displacement, vibration_axis
+from ...friction_law import law_kernel
+from ...friction_law.contract import FASTMATH
+from ...core.errors import NoEnergyBalance
+from ...core.law_limits import SLIP_PER_STEP, slip_per_step, sliding_length
+from . import step_cost
+from ..outputs import trouble
+from ..model.contact import SUBSTEP_ONSET, contact_forces
+from ..model.drive import attachment_position, prescribed_position
+from ..model.linalg import apply, bsr
+from ..model.fe_model import check_step
+from ..outputs.recording import COS, SIN, XB, YB, finish_step, keep_step
 from .time_loop import Started, TimeLoop
 
 
@@ -142,7 +143,7 @@ def explicit_steps(first, last, dt,
                    reference, u, v, work, force_sum, disp, disp_new, vel_z,
                    states, normal, friction, scalars, recorder, steady):
     """Advance steps ``first`` .. ``last`` (inclusive). Returns (failed step, code, stop step):
-    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py).
+    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (outputs/steady.py).
 
     ``stiffness`` is K in block sparse rows of 3x3 node blocks (linalg.bsr).
     A ``prescribed`` drive (drive.mode = "velocity") replaces the spring by the
@@ -276,4 +277,10 @@ class ExplicitRun(TimeLoop):
         def steps(first, last):
             return kernel(*arguments(first, last))
 
-        return Started(steps, lambda: (u, v))
+        def rigid(motion):
+            # u and the contact nodes' last displacements move; v and vel_z (rewritten
+            # every step) stay
+            return {"u": motion.copy(), "v": np.zeros(dofs),
+                    "disp": motion.reshape(-1, 3)[model.contact_nodes].copy()}
+
+        return Started(steps, lambda: (u, v), {"u": u, "v": v, "disp": disp}, rigid)

@@ -19,8 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..core.series import COLUMNS as SERIES_COLUMNS
-from ..core.series import RecordPlan
+from ...core.chunks import CHUNK_SECONDS, next_chunk
+from ...core.series import COLUMNS as SERIES_COLUMNS
+from ...core.series import RecordPlan
 from . import trouble
 from .steady import settled
 
@@ -171,10 +172,9 @@ def finish_step(t, t_on, f_d, f_n, f_x, f_y, x, y, x_b, y_b, friction_magnitude,
 # Ctrl-C is answered. The loops keep all their state in arrays, so where a run
 # is cut into chunks does not change its results.
 PROGRESS_STEPS = 5000
-CHUNK_SECONDS = 0.2
 
 
-def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
+def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, onset=0):
     """Run steps 1..steps by ``advance(first, last) -> stop step or 0``, returning to
     Python for the ParaView frames, frame(state(i)) at i = 0, every ``every``
     steps and at the last step, for ``progress(i, steps)`` every
@@ -183,7 +183,14 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
     CHUNK_SECONDS or so (a chunk of steps doubles while it takes under half of
     it): Ctrl-C and SIGTERM, which Python handles only between compiled calls,
     end even a run of slow steps (a stiff contact's thousands of friction
-    sub-steps) at once. Returns (the last step run, the loop's seconds)."""
+    sub-steps) at once.
+
+    ``onset`` is the first step of the vibration, where a step may become many
+    times slower at once (every contact node's friction sub-steps start there): no
+    chunk runs across it, and the chunks start again from one step there. (Grown
+    over the quick steps before it, a chunk of thousands of steps ran for minutes
+    past the onset with SIGTERM waiting.) Returns (the last step run, the loop's
+    seconds)."""
     frames = frame is not None and every > 0
     if progress is not None:
         progress(0, steps)
@@ -198,13 +205,12 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None):
             last = min(last, (first // every + 1) * every)
         if progress is not None:
             last = min(last, (first // PROGRESS_STEPS + 1) * PROGRESS_STEPS)
+        if first < onset:
+            last = min(last, onset - 1)
         called = time.perf_counter()
         stop = advance(first, last)
         took = time.perf_counter() - called
-        if took < CHUNK_SECONDS / 2 and last - first + 1 == chunk:
-            chunk *= 2
-        elif took > CHUNK_SECONDS and chunk > 1:
-            chunk //= 2
+        chunk = 1 if last + 1 == onset else next_chunk(chunk, took, last - first + 1)
         if stop:
             last = stop
             break

@@ -25,23 +25,23 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from ..core.base_motion import base_displacement, vibration_axis
-from ..core.errors import StepTooLong
-from ..core.law_limits import slip_per_step
-from ..friction_law import law_kernel
-from ..friction_law.contract import FASTMATH
-from . import energy, recording, trouble
+from ...core.base_motion import base_displacement, vibration_axis
+from ...core.errors import StepTooLong
+from ...core.law_limits import slip_per_step
+from ...friction_law import law_kernel
+from ...friction_law.contract import FASTMATH
+from ..outputs import energy, recording, trouble
 from .borrowed import borrowed
 from .contact_solve import (ITERATION_TOLERANCE, MAX_CONTRACTION, MAX_ITERATIONS, NOT_CONVERGED,
                             STALLED, ContactData, StepStart, base_over_substeps, commit_contact,
                             implicit_substeps, iterate_contact, still_substeps)
-from .drive import attachment_xy
-from .energy import SUMS, add_contact_work, add_damping_and_drive_work
-from .energy import record as record_energy, stored as energy_stored
+from ..model.drive import attachment_xy
+from ..outputs.energy import SUMS, add_contact_work, add_damping_and_drive_work
+from ..outputs.energy import record as record_energy, stored as energy_stored
 from .generalized_alpha import (LinearSystem, Scheme, coefficients, contact_tangent,
                                 free_response, newmark_update)
-from .linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
-from .recording import COS, LOOP_SCALARS, SIN, XB, YB, finish_step, keep_step
+from ..model.linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
+from ..outputs.recording import COS, LOOP_SCALARS, SIN, XB, YB, finish_step, keep_step
 from .step_cost import step_cost
 from .time_loop import Started, TimeLoop
 
@@ -96,7 +96,7 @@ class Operators(NamedTuple):
 
     mass: object            # M: diagonal array (full) or dense matrix (reduced)
     stiffness: object       # K: BSR blocks (full) or dense matrix (reduced)
-    inv: object             # A^-1: its factorization (linalg.py)
+    inv: object             # A^-1: its factorization (model/linalg.py)
     Z: np.ndarray           # A^-1 [P d_x] (and d_y for a drive held in Y)
     G: np.ndarray           # P^T A^-1 P
     h: np.ndarray           # P^T A^-1 d_x
@@ -129,7 +129,7 @@ class Drive(NamedTuple):
 
 
 class Limits(NamedTuple):
-    """What numerical trouble is measured against (trouble.py)."""
+    """What numerical trouble is measured against (outputs/trouble.py)."""
 
     F_N: float
     mu_max: float
@@ -198,6 +198,7 @@ class ImplicitRun(TimeLoop):
     """
 
     extra_scalars = OWN_SCALARS
+    iteration_tolerance = ITERATION_TOLERANCE   # the contact iteration's, relative (contact_solve)
 
     def __init__(self, scene, model, system: LinearSystem, name="implicit"):
         t = scene.time
@@ -298,7 +299,7 @@ class ImplicitRun(TimeLoop):
                             self.tangent, self.assumed)
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
         scheme = Scheme(dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
-                        ITERATION_TOLERANCE * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
+                        self.iteration_tolerance * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
                         still_substeps(scene))
         drive = Drive(scene.drive.k_d, scene.drive.v_d, self.prescribed)
         limits = Limits(c.F_N, scene.mu_max)
@@ -313,7 +314,19 @@ class ImplicitRun(TimeLoop):
         def steps(first, last):
             return kernel(*arguments(first, last))
 
-        return Started(steps, lambda: (model.u0 + system.expand(q), system.expand(v)))
+        tangent = self.tangent
+
+        def rigid(motion):
+            # q moves by the motion's q; g = f_c + l q_c (contact_solve._contact_g) by l q_c
+            # on the X and Y rows (a motion in the plane: Z and the forces stay)
+            moved = system.rigid(motion)
+            shift = np.zeros_like(g_prev)
+            planar = np.tile([1.0, 1.0, 0.0], contacts)
+            shift[:nc] = tangent * planar * moved[system.contact_dofs.ravel()]
+            return {"q": moved, "v": np.zeros(n), "a": np.zeros(n), "g_prev": shift}
+
+        return Started(steps, lambda: (model.u0 + system.expand(q), system.expand(v)),
+                       {"q": q, "v": v, "a": a, "g_prev": g_prev}, rigid)
 
     def stats(self, scalars, last: int) -> dict:
         return {"iterations_max": int(scalars[ITER_MAX]),
@@ -350,7 +363,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
                    q, v, a, states, normal, friction, g_prev, scalars, sums,
                    recorder, steady, work):
     """Advance steps ``first`` .. ``last``. Returns (failed step, code, stop step):
-    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py).
+    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (outputs/steady.py).
 
     Each step: the linear response y = A^-1 b_n (generalized_alpha.free_response),
     the base (eqs 23-25) and its friction sub-steps, the contact iteration

@@ -17,8 +17,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..friction_law.contract import FASTMATH
-from .linalg import apply, solve
+from ...friction_law.contract import FASTMATH
+from ..model.linalg import apply, solve
 
 
 class Scheme(NamedTuple):
@@ -65,11 +65,14 @@ class LinearSystem:
                      (the full model), or dense 2-D arrays (the reduced model)
     contact_dofs     (contacts, 3) the q index of each contact node's X, Y, Z
     drive_index, drive_x, drive_y
-                     x_A = sum drive_x q[drive_index], y_A likewise (drive.py)
+                     x_A = sum drive_x q[drive_index], y_A likewise (model/drive.py)
     expand           q -> T q, the node displacement field (for frames and fields)
+    rigid            a rigid motion of the block's nodes (dofs,) -> its q (T q equals it:
+                     the basis spans rigid motions, cycle_map.py)
     """
 
-    def __init__(self, mass, stiffness, contact_dofs, drive_index, drive_x, drive_y, expand):
+    def __init__(self, mass, stiffness, contact_dofs, drive_index, drive_x, drive_y, expand,
+                 rigid):
         self.mass = mass
         self.stiffness = stiffness
         self.contact_dofs = np.ascontiguousarray(contact_dofs, dtype=np.int64)
@@ -77,6 +80,7 @@ class LinearSystem:
         self.drive_x = np.ascontiguousarray(drive_x, dtype=float)
         self.drive_y = np.ascontiguousarray(drive_y, dtype=float)
         self.expand = expand
+        self.rigid = rigid
 
     @property
     def size(self) -> int:
@@ -97,7 +101,7 @@ def full_system(model) -> LinearSystem:
                         np.concatenate([index, index + 1]),
                         np.concatenate([weights, np.zeros_like(weights)]),
                         np.concatenate([np.zeros_like(weights), weights]),
-                        lambda q: q)
+                        lambda q: q, lambda motion: motion)
 
 
 def contact_tangent(model, scene, c_v) -> np.ndarray:

@@ -13,7 +13,7 @@ k_d w w^T: it stores energy k_d (v_d t - x_A)^2 / 2 and nothing else).
 With drive.mode = "velocity" (prescribed sliding, as the lumped model's
 prescribed mode and the closed-form literature) there is no spring: x_A = v_d t
 exactly (after a start, prescribed_position), and F_d is the constraint's
-force, spread by the same weights (each integrator solves for it: explicit.py,
+force, spread by the same weights (each integrator solves for it: integrators/explicit.py,
 contact_solve.contact_residual).
 
 Where it attaches (scene drive.attach, docs/model.md section 5):
@@ -32,8 +32,8 @@ front-face
 import numpy as np
 from numba import njit
 
-from .. import meshes
-from ..friction_law.contract import FASTMATH
+from ... import meshes
+from ...friction_law.contract import FASTMATH
 
 ATTACH_FACES = {"contact-plane": meshes.CONTACT, "front-face": meshes.FRONT}
 

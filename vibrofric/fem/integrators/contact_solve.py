@@ -19,12 +19,12 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..core.law_limits import slip_resolving_step
-from ..friction_law import law_kernel
-from ..friction_law.contract import FASTMATH
-from .contact import node_contact
-from .drive import attachment_xy, prescribed_position
-from .linalg import apply
+from ...core.law_limits import slip_resolving_step
+from ...friction_law import law_kernel
+from ...friction_law.contract import FASTMATH
+from ..model.contact import node_contact
+from ..model.drive import attachment_xy, prescribed_position
+from ..model.linalg import apply
 
 # Convergence of the contact iteration: the change of every contact
 # displacement below this fraction of F_N / k_t (~7e-13 m on the paper's

@@ -11,22 +11,23 @@ range of steps; the TimeLoop owns the rest, the same for all of them:
     the chunks           between ParaView frames and progress reports
                          (recording.run_in_chunks)
     the failures         a trouble code from the compiled step becomes a
-                         NumericalError with the integrator's hint (trouble.py)
+                         NumericalError with the integrator's hint (outputs/trouble.py)
     the statistics       the loop's, the integrator's own, the early stop's
 
-    run.name, run.info, run.choice, run.cost_per_step  (integrators.py)
+    run.name, run.info, run.choice, run.cost_per_step  (registry.py)
     run.integrate(plan, frame=None, every=0, progress=None) -> recording.Integration
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import trouble
-from .linalg import one_blas_thread
-from .recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
+from ..outputs import trouble
+from ..model.linalg import one_blas_thread
+from ..outputs.recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
                         loop_stats, run_in_chunks)
-from .steady import SteadyState
+from ..outputs.steady import SteadyState
 
 
 @dataclass
@@ -51,10 +52,18 @@ class Started:
     steps(first, last) -> (failed step, trouble code, stop step): the compiled
         step over steps first..last, on the arrays start() made
     fields() -> (u, v): the node displacement (with the preload) and velocity now
+    carried  {name: array}: the integrator's own state that the compiled step carries
+        from step to step (beside the ContactState and the scalars); written in
+        place, it sets the state the next ``steps`` call starts from (cycle_map.py)
+    rigid(pattern) -> {name: array}: how each carried array changes when every node
+        moves by the rigid displacement ``pattern`` (dofs,): the drive's translation
+        and the motions nothing restrains, taken out in cycle_map.py
     """
 
     steps: object
     fields: object
+    carried: dict
+    rigid: object
 
 
 class TimeLoop:
@@ -81,7 +90,7 @@ class TimeLoop:
 
     def integrate(self, plan, frame=None, every=0, progress=None) -> Integration:
         """Run ``plan.steps`` steps of time.dt from the static preload (fewer once
-        settled, steady.py), keep the rows ``plan`` (core.series.RecordPlan) asks
+        settled, outputs/steady.py), keep the rows ``plan`` (core.series.RecordPlan) asks
         for, call ``frame(state)`` at t = 0, every ``every`` steps and at the end
         and ``progress(step, steps)`` now and then (recording.run_in_chunks);
         raise core.errors.NumericalError on numerical trouble."""
@@ -106,8 +115,10 @@ class TimeLoop:
                 raise trouble.failure(failed, code, scene, self.hint)
             return stop
 
+        onset = math.floor(scene.vibration.t_on / dt) + 1   # the first step the base vibrates in
         with one_blas_thread():
-            last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress)
+            last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress,
+                                            onset)
         stats = {**loop_stats(scalars, loop_time), **self.stats(scalars, last),
                  **steady.report(last)}
         return Integration(recorder.table(last), state(last), stats)

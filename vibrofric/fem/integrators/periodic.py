@@ -1,0 +1,189 @@
+"""The FE model's steady state directly: the periodic orbit of an integrator by shooting.
+
+The FE analogue of analytic/periodic.py. The unknowns are the integrator's whole
+state at the start of a base cycle in the frame that moves with the drive, its
+unrestrained rigid motions gauged out (cycle_map.py); the residual is one cycle
+of the integrator's own compiled step less the start, so the orbit is the state
+the stepped run of the same integrator at the same step settles to, to the Newton
+tolerance. The state has hundreds to thousands of entries (reduced Fig 7,
+coarse mesh: 598; the full model's: 3 x its DOFs and more), too many for a
+finite-difference Jacobian. Solved by core.shooting.newton_picard: Newton on
+the drive mode (the block's rigid X translation and velocity on the drive
+spring, the map's slowest: 0.984 a cycle on Fig 7, the reason the stepped
+transient needs ~1000 cycles), plain cycles on the rest, Anderson-accelerated;
+started from steady sliding (the preload moving at v_d, set back by the drive
+spring's stretch under F_d0) after PLAIN_CYCLES plain cycles that bring every
+node's friction law into its vibrated sliding, or from a neighbour's orbit
+(``start``: sweeps). The largest Floquet multipliers: Arnoldi on directional
+derivatives at the orbit, on the map with its contact iteration converged
+tightly (SMOOTH_ITERATION).
+
+Where 1/(f dt) is not a whole number the scene is run at the nearest step that
+puts a whole number in a cycle (periodic_scene; the summary's periodic.dt and
+dt_adjusted say so).
+"""
+
+import math
+from time import perf_counter
+
+import numpy as np
+
+from ...core.shooting import (Orbit, cycle_steps, instability, largest_multipliers,
+                             newton_picard)
+from .cycle_map import FECycleMap
+from ..outputs.recording import XB, YB, State
+
+TOLERANCE = 1e-6         # converged: the RMS of the scaled residual (each entry divided by its
+                         # natural size, cycle_map.FECycleMap._scales: displacements by 10 F_c /
+                         # k_pen, 1.2 nm on Fig 7) at most this. F_dv against the orbit converged
+                         # to 1e-7 (Fig 7, reduced): 4.7e-7 at 1e-5, 4e-8 at 1e-6; at k_v = 20 on
+                         # the coupled scene the residual stalled at 2.9e-7 (the contact
+                         # iteration's tolerance inside each step)
+MAX_CYCLES = 400         # cycles the shooting may take before the run is stepped instead
+PLAIN_CYCLES = 3
+FD_STEP = 1e-6           # Arnoldi's difference step (scaled): the multipliers agree to 1e-3 for
+                         # 1e-5 to 1e-7 on Fig 7 (reduced)
+DECAY_CYCLES = 40        # decay_rate: cycles run from a perturbed orbit, the first DECAY_SKIP
+DECAY_SKIP = 10          # of them letting the fast components die out
+DECAY_AMPLITUDE = 1e-3   # the perturbation's RMS, scaled
+SMOOTH_ITERATION = 1e-12  # the contact iteration's tolerance for the multipliers' cycles: the
+                         # stepper's own (1e-6) leaves a roughness that the difference steps see
+FRAMES_PER_CYCLE = 16    # ParaView frames of the steady cycle
+
+
+def periodic_scene(scene):
+    """(the scene at the step that puts a whole number of steps in a cycle, those steps)
+    (core.shooting.cycle_steps: time.dt itself where 1/(f dt) is whole)."""
+    steps, dt = cycle_steps(scene)
+    if dt == scene.time.dt:
+        return scene, steps
+    return scene.with_values({"time.dt": dt}), steps
+
+
+def find_orbit(run, model, steps: int, start: np.ndarray | None = None):
+    """Shoot for the periodic steady state of the prepared integrator ``run`` (its
+    scene's step puts ``steps`` steps in a cycle). Returns (Orbit, the FECycleMap).
+    ``start``: a neighbour's orbit state (Orbit.z, unscaled) on the same model, else
+    steady sliding. Never raises for a failed or unstable orbit: the Orbit says."""
+    begin = perf_counter()
+    phi = FECycleMap(run, model, steps)
+    scene = run.scene
+    fresh = start is None or np.shape(start) != (phi.full_size,)
+    if fresh:
+        drive_force = scene.friction.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)
+        z_raw = phi.initial_state(drive_force)
+        for _ in range(PLAIN_CYCLES):
+            z_next, _ = phi.raw_cycle(z_raw)
+            if not np.all(np.isfinite(z_next)):
+                break
+            z_raw = z_next
+    else:
+        z_raw = np.array(start, dtype=float)
+    phi.set_law_scale(z_raw)
+    shot = newton_picard(phi, phi.gauge(z_raw / phi.scale), phi.slow_directions(),
+                         phi.slow_step(), TOLERANCE, MAX_CYCLES)
+    multipliers = np.empty(0)
+    reason = shot.reason
+    orbit_note = ""
+    cycle = np.empty((steps, phi.recorder.row.size))
+    z = shot.z * phi.scale
+    cycles = phi.cycles
+    if shot.converged:
+        smooth = _smooth_map(run, model, steps, phi.scale)
+        x = shot.z
+        multipliers, count = largest_multipliers(smooth, x, smooth(x), FD_STEP)
+        cycles += count + 1
+        reason = instability(multipliers)
+        if reason:      # confirmed, or not, by a perturbation's decay (see decay_rate)
+            rate = decay_rate(phi, x)
+            if rate < 1.0:
+                orbit_note = (f"Arnoldi's largest Ritz value {abs(multipliers[0]):.4g} not "
+                              f"confirmed: a perturbation decays by {rate:.4f} a cycle")
+                multipliers, reason = np.array([rate]), ""
+            else:
+                reason += f"; a perturbation grows by {rate:.4f} a cycle"
+            cycles += DECAY_CYCLES
+        _, cycle = phi.raw_cycle(z, rows=True)
+    stable = shot.converged and not reason
+    orbit = Orbit(shot.converged, stable, z, cycle, shot.iterations, cycles,
+                  shot.residual, multipliers, scene.time.dt, steps,
+                  perf_counter() - begin, reason)
+    orbit.extra["start"] = "steady sliding" if fresh else "neighbour"
+    if orbit_note:
+        orbit.extra["floquet_note"] = orbit_note
+    return orbit, phi
+
+
+def decay_rate(phi: FECycleMap, x: np.ndarray) -> float:
+    """The rate a cycle at which plain cycles bring a perturbed orbit back: the RMS
+    distance from the orbit ``x`` (scaled) after DECAY_CYCLES cycles against that after
+    DECAY_SKIP, to the power 1 / (DECAY_CYCLES - DECAY_SKIP), from a reproducible
+    random perturbation of RMS DECAY_AMPLITUDE; inf where the stepper fails.
+
+    Arnoldi's differences are not enough where the map is not smooth at the orbit:
+    on the Fig 12 grid (reduced, coupled scene) Dahl's direction turning round and
+    nodes lifting off gave Ritz values of 1.61, 1.02, 0.986, 0.952 at k_v = 6, 45 deg
+    for steps of 1e-5 to 1e-8, while a perturbation decayed by 0.983 a cycle."""
+    rng = np.random.default_rng(0)
+    d = phi.gauge(rng.standard_normal(x.size))
+    y = x + DECAY_AMPLITUDE * d / np.sqrt(np.mean(d * d))
+    distances = []
+    for _ in range(DECAY_CYCLES):
+        y = phi(y)
+        distances.append(float(np.sqrt(np.mean((y - x) ** 2))))
+    if not all(np.isfinite(distances)) or distances[DECAY_SKIP - 1] == 0.0:
+        return math.inf
+    return (distances[-1] / distances[DECAY_SKIP - 1]) ** (1.0 / (DECAY_CYCLES - DECAY_SKIP))
+
+
+def _smooth_map(run, model, steps, scale) -> FECycleMap:
+    """The cycle map with the contact iteration converged to SMOOTH_ITERATION (implicit
+    and reduced; the explicit step has no iteration), on the same scales."""
+    tolerance = getattr(run, "iteration_tolerance", None)
+    if tolerance is not None:
+        run.iteration_tolerance = SMOOTH_ITERATION
+    try:
+        smooth = FECycleMap(run, model, steps)
+    finally:
+        if tolerance is not None:
+            run.iteration_tolerance = tolerance
+    smooth.scale = scale
+    return smooth
+
+
+def steady_table(orbit: Orbit, scene, cycles: int) -> np.ndarray:
+    """``cycles`` repeats of the steady cycle's rows (recording.columns) ending at time.T,
+    in the ground frame (x = the drive's frame's x + v_d t)."""
+    n, dt = orbit.steps, orbit.dt
+    table = np.tile(orbit.cycle, (cycles, 1))
+    t = scene.time.T - cycles * n * dt + dt * np.arange(1, cycles * n + 1)
+    table[:, 4] += scene.drive.v_d * (t - table[:, 0])
+    table[:, 0] = t
+    return table
+
+
+def cycle_frames(phi: FECycleMap, orbit: Orbit, frame=None) -> State:
+    """frame(State), if given, at FRAMES_PER_CYCLE + 1 evenly spaced steps of one steady
+    cycle (its start and end included), at the times the cycle map integrates it;
+    returns the state at its end (FEResult.fields)."""
+    law = phi.scene.friction.law
+    v_d = phi.scene.drive.v_d
+    dt = phi.dt
+    i0, n = phi.i0, phi.steps
+    phi.load(orbit.z)
+    c, scalars = phi.contact, phi.scalars
+
+    def state(step):
+        u, v = phi.started.fields()
+        return State(step, step * dt, u.copy(), v.copy(), c.state.copy(),
+                     law.deformation(c.state), c.normal.copy(), c.friction.copy(),
+                     scalars[XB], scalars[YB])
+
+    if frame is not None:
+        frame(state(i0))
+    marks = np.unique(np.linspace(0, n, FRAMES_PER_CYCLE + 1).round().astype(int))
+    for a, b in zip(marks[:-1], marks[1:]):
+        phi.started.steps(i0 + a + 1, i0 + b)
+        if frame is not None:
+            frame(state(i0 + b))
+    return state(i0 + n)
