@@ -497,6 +497,21 @@ def test_the_run_time_estimate_counts_friction_sub_steps(load_scene):
     assert budget.estimate(stiff, fe=True)["seconds"] > 1000 * budget.estimate(gentle, fe=True)["seconds"]
 
 
+def test_a_run_estimated_beyond_an_hour_is_announced_before_it_starts(load_scene, tmp_path):
+    """vibration.k_v = 1e6 and T = 10 s: ~22 days by the estimate (every contact node's
+    friction sub-steps), under the 30 days refused. It started without a word, its
+    progress bar's first ETA under an hour (the quick steps before the vibration);
+    now one line says the estimate first. The shipped scene says nothing."""
+    from vibrofric import budget
+
+    gentle = load_scene("longitudinal")
+    stiff = gentle.with_values({"vibration.k_v": 1e6, "vibration.t_on": 0.01, "time.T": 10.0})
+    seconds = budget.check([stiff], fe=True, out=tmp_path / "out")
+    assert budget.LONG_RUN_S < seconds < budget.LONGEST_RUN_S
+    assert "days of computing" in budget.long_run_notice(seconds)
+    assert budget.long_run_notice(budget.check([gentle], fe=True, out=tmp_path / "out")) is None
+
+
 def test_the_fe_loop_returns_to_python_in_growing_chunks():
     """run_in_chunks calls the compiled step over chunks that start at one step and
     double while quick: a signal is handled between two calls."""
