@@ -1,104 +1,20 @@
 """Implicit time integration: generalized-alpha with the linear operator factorized once.
 
-Coordinates. u = u0 + T q, u0 the static preload (model/preload.py). The full model
-has T = I; the reduced one (reduction.py) a Craig-Bampton basis. In both, each
-contact node's X, Y, Z displacement is a coordinate of its own (``contact_dofs``;
-P picks them out of q), and the drive's attachment is x_A = d_x^T q (model/drive.py).
-The equation of motion is
-
-    M q'' + C q' + K q = P f_c - P_z N0 + d_x F_d,        C = beta K
-
-with f_c = (-F_x, -F_y, N) per contact node (model/contact.py: the friction law and
-the penalty spring with its dashpot), N0 the preload's reactions (the dead
-loads less K u0), F_d = k_d (v_d t - x_A) (eq 17) and the model's Rayleigh
-damping beta (model/stability.py), as in explicit.py.
-
-Generalized-alpha (Chung & Hulbert, J. Appl. Mech. 60, 1993), with the
-spectral radius rho_inf at infinite frequency (scene fem.rho_infinity):
-
-    alpha_m = (2 rho_inf - 1) / (rho_inf + 1),   alpha_f = rho_inf / (rho_inf + 1)
-    gamma = 1/2 - alpha_m + alpha_f,             beta_N = (1 - alpha_m + alpha_f)^2 / 4
-    q_{n+1} = q_n + dt v_n + dt^2 ((1/2 - beta_N) a_n + beta_N a_{n+1})
-    v_{n+1} = v_n + dt ((1 - gamma) a_n + gamma a_{n+1})
-    M a_{n+1-alpha_m} + C v_{n+1-alpha_f} + K q_{n+1-alpha_f} = r_{n+1-alpha_f}
-
-(x_{n+1-alpha} = (1 - alpha) x_{n+1} + alpha x_n). rho_inf = 1 is the trapezoidal
-rule (Newmark average acceleration): second order, unconditionally stable for
-linear systems, no numerical damping; rho_inf < 1 damps the modes above 1 / dt
-(the mesh's and the penalty springs', which the scene does not need), keeping
-second order. The default, 0.9, is there because the contact is nonlinear: a
-penalty spring switching on and off pumps energy into the undamped modes
-above 1 / dt. With rho_inf = 1 a thin, 100x stiffer block (30 x 40 x 5 mm,
-transverse scene) lost contact after 64 ms of plain dragging at dt = 1e-5 s,
-and sooner at 5e-6 s; with 0.9 its normal force stays within 50.799-50.801 N.
-On the Fig 7 scene 0.9 moves F_dv/F_d0 by -0.18% against 1 (explicit at 1e-6 s
-lies between), on the k_v = 20 transverse scene by -0.003%.
-
-One step. Everything linear is one matrix, factorized once per run:
-
-    A = c_M M + (1 - alpha_f) ((1 + beta c_V) K + P diag(l) P^T),
-    c_M = (1 - alpha_m) / (beta_N dt^2),   c_V = gamma / (beta_N dt)
-
-where l is the contact forces' tangent per contact DOF: k_t w_i in X and Y
-(the Dahl law's stiffness at rest, the middle of its range [0, 2 k_t w_i]) and
-k_pen w_i (1 + beta c_V) in Z (the penalty spring and its dashpot) for the
-nodes in contact at the preload. Then
-
-    A q_{n+1} = b_n + (1 - alpha_f) g,      g = P (f_c + l q_c) + d_x F_d
-
-with b_n known from step n, and g the part the matrix does not hold: the
-friction law's departure from its tangent, the drive. g depends on q_{n+1}
-only through q_c and x_A. With y = A^-1 b_n and Z = A^-1 [P d_x] (computed once):
-
-    q_c = y_c + (1 - alpha_f) (G g_c + h F_d),     G = P^T A^-1 P,  h = P^T A^-1 d_x
-    x_A = y_A + (1 - alpha_f) (h^T g_c + e F_d),   e = d_x^T A^-1 d_x
-
-a fixed point in 3 x contacts + 1 unknowns, iterated to ITERATION_TOLERANCE
-(each iteration: the friction law on every node, one product with G); then
-q_{n+1} = y + (1 - alpha_f) Z [g_c; F_d] (on the contact DOFs that is the
-iteration's last q_c). Per step: one solve with A, two products (M, K), the
-non-contact rows of Z, and the iterations.
-
-The friction law inside the step. f_c(q_c) is each node's contact over the
-step from q_n to the trial q_{n+1}: the VFRIC analogue (contact.node_contact,
-the same per-node update as explicit.py) run on implicit_substeps(scene)
-sub-steps, at least SUBSTEPS_PER_CYCLE a vibration cycle (before the base
-starts, still_substeps: enough for the drive's slide), with the base on
-its exact sinusoid (eq 23) and the node at its mean velocity over the step.
-At dt = 1e-5 s, 25 steps a cycle, one piece would miss the base's curved
-path by ~1% of F_dv; four sub-steps bring it within 0.2%.
-
-Why this is stable and converges at any dt. The matrix holds the mass, the
-block, the penalty springs and the contact's own tangent: what stays in g is
-the friction law's departure from k_t w_i, at most k_t w_i per node (Dahl:
-dF/d(slip) lies in [0, 2 k_t w_i]), and the drive spring k_d. The iteration
-contracts by (1 - alpha_f) ||G diag(departure)||: below (1 - alpha_f) k_t w_i
-G_ii <= 1 - alpha_f ~ 1/2 node by node (G_ii <= 1 / l_i), and for the whole
-face together k_t / (k_t + c_M m) ~ 0.004 at dt = 1e-5 s (the rigid block's
-2 kHz mode on k_t, which explicit friction would have to resolve). Nothing is
-lagged: the step is implicit in the friction force too, so the penalty does
-not limit dt, and no tuning is needed. The bound grows where the contact
-is as stiff as the block (G_ii l_i -> 1 on the face: 0.60 at k_t x 100 and
-1e-5 s) or LuGre's dampings act over a long step; ImplicitRun refuses a
-step whose bound exceeds MAX_CONTRACTION, naming the halved step
-(working_step) at which it does not.
+u = u0 + T q (T = I for the full model, a Craig-Bampton basis for the reduced
+one); each step solves M q'' + C q' + K q = P f_c - P_z N0 + d_x F_d with the
+linear part in one matrix A, factorized once a run, and the contact forces
+f_c (the friction law) and the drive F_d (eq 17) iterated in the contact
+space to a fixed point. docs/fe-model.md ("How an implicit step works")
+gives the equations, why the iteration converges at any step, and where it
+does not (nodes near lift-off: a Newton step on the critical nodes).
 
 The parts: generalized_alpha.py (coefficients, the linear system, the
-contact tangent), contact_solve.py (the contact forces at a trial state and
-the iteration), step_cost.py (for "auto"), outputs/energy.py (the balance); here, the
-prepared run and its compiled step.
-
-Where that bound does not hold: nodes near lift-off. The block rocks on its
-face every cycle (friction at z = 0, inertia at mid-height): the corner
-nodes' normal forces swing between 0 and twice their share even in the
-explicit run. A node that lifts off loses its penalty spring and its
-friction; one whose normal force is small has a tiny Coulomb limit, a
-saturated friction force and a strong pull of N on F (mu dN/dq_z). Those
-critical nodes get a Newton step with their own 3x3 tangents
-(newton_correction), halved when it does not lower the residual; should the
-Newton steps still alternate across a node's contact kink, the plain fixed
-point takes over, and the step is accepted at its best iterate within a
-looser tolerance (STALL_FACTOR) or refused as not converged.
+contact tangent; the step's linear response and the Newmark update),
+contact_solve.py (the contact forces at a trial state and the iteration: the
+only part compiled for each friction law), step_cost.py (for "auto"),
+energy.py (the balance); here, the prepared run (ImplicitRun: the
+factorization, the contact operator G, the refusal of a too-long step) and
+its compiled step, implicit_steps.
 """
 
 import math
@@ -107,6 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
+from numba import njit
 
 from ...core.base_motion import base_displacement, vibration_axis
 from ...core.errors import StepTooLong
@@ -115,20 +32,23 @@ from ...friction_law import law_kernel
 from ...friction_law.contract import FASTMATH
 from ..outputs import energy, recording, trouble
 from .borrowed import borrowed
-from .contact_solve import (FALLBACK_ITERATIONS, ITERATION_TOLERANCE, MAX_CONTRACTION,
-                            MAX_ITERATIONS, MIN_STEP, STALL_FACTOR, ContactData, StepStart,
-                            contact_residual, implicit_substeps, newton_correction,
-                            still_substeps)
-from ..model.drive import prescribed_position
-from ..outputs.energy import add_contact_work, stored as energy_stored
-from .generalized_alpha import LinearSystem, Scheme, coefficients, contact_tangent
+from .contact_solve import (ITERATION_TOLERANCE, MAX_CONTRACTION, MAX_ITERATIONS, NOT_CONVERGED,
+                            STALLED, ContactData, StepStart, base_over_substeps, commit_contact,
+                            implicit_substeps, iterate_contact, still_substeps)
+from ..model.drive import attachment_xy
+from ..outputs.energy import SUMS, add_contact_work, add_damping_and_drive_work
+from ..outputs.energy import record as record_energy, stored as energy_stored
+from .generalized_alpha import (LinearSystem, Scheme, coefficients, contact_tangent,
+                                free_response, newmark_update)
 from ..model.linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
-from ..outputs.recording import COS, SIN, XB, YB, finish_step, keep_step
+from ..outputs.recording import COS, LOOP_SCALARS, SIN, XB, YB, finish_step, keep_step
 from .step_cost import step_cost
 from .time_loop import Started, TimeLoop
 
-# scalars[]: the loop's carried scalar state, after recording's
-F_D, ITER_MAX, ITER_SUM, STALLED, F_HOLD = range(8, 13)
+# scalars[]: the implicit loop's own carried state, after recording's: the drive's force
+# and a prescribed drive's hold in Y at the last step, the contact iteration's statistics
+OWN_SCALARS = 5
+F_D, ITER_MAX, ITER_SUM, ITER_STALLED, F_HOLD = range(LOOP_SCALARS, LOOP_SCALARS + OWN_SCALARS)
 
 
 class Work(NamedTuple):
@@ -262,10 +182,10 @@ def working_step(scene, model, system: LinearSystem):
     for k in range(1, STEP_HALVINGS + 1):
         trial = scene.with_values({"time.dt": scene.time.dt / 2 ** k})
         scheme = coefficients(trial.fem.rho_infinity, trial.time.dt)
-        held = contact_tangent(model, trial, scheme[5]) * assumed
+        held = contact_tangent(model, trial, scheme.c_v) * assumed
         G = columns_of_inverse(factorized(system, model, system_matrix(system, model, scheme,
                                                                        held)), dofs)
-        if contraction(G, held, scheme[1], trial.law_bounds.departure) <= MAX_CONTRACTION:
+        if contraction(G, held, scheme.alpha_f, trial.law_bounds.departure) <= MAX_CONTRACTION:
             return trial.time.dt
     return None
 
@@ -277,7 +197,7 @@ class ImplicitRun(TimeLoop):
     says what was prepared; ``integrate`` (time_loop.TimeLoop) runs it.
     """
 
-    extra_scalars = 5  # F_D, ITER_MAX, ITER_SUM, STALLED, F_HOLD
+    extra_scalars = OWN_SCALARS
     iteration_tolerance = ITERATION_TOLERANCE   # the contact iteration's, relative (contact_solve)
 
     def __init__(self, scene, model, system: LinearSystem, name="implicit"):
@@ -368,7 +288,7 @@ class ImplicitRun(TimeLoop):
         u0c = model.u0.reshape(-1, 3)[model.contact_nodes].copy()
         g_prev = np.zeros(nc + 2)   # g at the preload: q = 0, f_c = (0, 0, N0), F_d = 0
         g_prev[2:nc:3] = model.normal0
-        sums = np.zeros(4)
+        sums = np.zeros(SUMS)
         work = Work.allocate(n, contacts, self.substeps, law.law.state_size)
 
         others = np.setdiff1d(np.arange(n), system.contact_dofs.ravel())
@@ -411,7 +331,31 @@ class ImplicitRun(TimeLoop):
     def stats(self, scalars, last: int) -> dict:
         return {"iterations_max": int(scalars[ITER_MAX]),
                 "iterations_mean": scalars[ITER_SUM] / max(last, 1),
-                "iterations_stalled": int(scalars[STALLED])}
+                "iterations_stalled": int(scalars[ITER_STALLED])}
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def new_displacements(y, g, target, f_d, f_hold, operators, alpha_f, g_prev, gw, q_new):
+    """q_{n+1} = y + (1 - alpha_f) Z [g_c; F_d] with the converged iteration's g: on the
+    contact DOFs that is its target, the other rows take Z. g_prev keeps [g_c; F_d; F_hold]
+    for the next step's first iterate."""
+    Z, contact_dofs, others = operators.Z, operators.contact_dofs, operators.others
+    nc = g.shape[0]
+    drives = Z.shape[1] - nc   # 1, or 2 for a drive held in Y
+    af1 = 1.0 - alpha_f
+    for p in range(nc):
+        gw[p] = g[p]
+        g_prev[p] = g[p]
+        q_new[contact_dofs[p // 3, p % 3]] = target[p]
+    gw[nc] = f_d
+    g_prev[nc] = f_d
+    gw[nc + 1] = g_prev[nc + 1] = f_hold
+    for r in range(others.shape[0]):
+        k = others[r]
+        s = 0.0
+        for p in range(nc + drives):
+            s += Z[k, p] * gw[p]
+        q_new[k] = y[k] + af1 * s
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -419,32 +363,24 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
                    q, v, a, states, normal, friction, g_prev, scalars, sums,
                    recorder, steady, work):
     """Advance steps ``first`` .. ``last``. Returns (failed step, code, stop step):
-    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (outputs/steady.py)."""
+    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (outputs/steady.py).
+
+    Each step: the linear response y = A^-1 b_n (generalized_alpha.free_response),
+    the base (eqs 23-25) and its friction sub-steps, the contact iteration
+    (contact_solve.iterate_contact: the only part that calls the friction law,
+    with the energy's contact work and stored energy), q_{n+1} and the Newmark
+    update, the recorded row.
+    """
     # The caller holds every array through the call: the loop uses them without
     # reference counts (borrowed.py).
     (operators, contact, params, work, q, v, a, states, normal, friction, g_prev, scalars, sums,
      recorder) = borrowed((operators, contact, params, work, q, v, a, states, normal, friction,
                            g_prev, scalars, sums, recorder))
-    (mass, stiffness, inv, Z, G, h, e, h_y, e_xy, e_yy, contact_dofs, others, drive_index,
-     drive_x, drive_y) = operators
-    drives = Z.shape[1] - 3 * contact_dofs.shape[0]   # 1, or 2 for a drive held in Y
-    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
     amplitude, omega, t_on, cos_theta, sin_theta, eta_y = base
     k_d, v_d, prescribed = drive
     spring = math.inf if prescribed else k_d   # the drive spring's stiffness (energy)
-    dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, beta, tolerance, max_iterations, still = scheme
-    stall_tolerance = tolerance * STALL_FACTOR
+    dt, alpha_f, beta_n, gamma, beta = scheme.dt, scheme.alpha_f, scheme.beta_n, scheme.gamma, scheme.beta
     F_N, mu_max = limits
-    qt, vt, x1, x2, r1, r2, rhs, y, q_new = (work.qt, work.vt, work.x1, work.x2, work.r1,
-                                             work.r2, work.rhs, work.y, work.q_new)
-    gw, qc, yc, target, g, delta, rho, qc_best = (work.gw, work.qc, work.yc, work.target,
-                                                  work.g, work.delta, work.rho, work.qc_best)
-    trial_state = work.trial_state
-    normal_t, force_t = work.normal_t, work.force_t
-    base_dx, base_free = work.base_dx, work.base_free
-    n = q.shape[0]
-    nc = qc.shape[0]
-    af1 = 1.0 - alpha_f
     row = recorder[0]
     xb, yb = scalars[XB], scalars[YB]
     sin_phase, cos_phase = scalars[SIN], scalars[COS]
@@ -454,163 +390,46 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
     stop = 0
     for i in range(first, last + 1):
         t = i * dt
-        # Predictors: q_{n+1} = qt + beta_N dt^2 a_{n+1},  v_{n+1} = vt + gamma dt a_{n+1}.
-        for k in range(n):
-            qt[k] = q[k] + dt * v[k] + dt * dt * (0.5 - beta_n) * a[k]
-            vt[k] = v[k] + dt * (1.0 - gamma) * a[k]
-            x1[k] = c_m * qt[k] - alpha_m * a[k]
-            x2[k] = beta * ((1.0 - alpha_f) * (vt[k] - c_v * qt[k]) + alpha_f * v[k]) + alpha_f * q[k]
-        # b_n = M (c_M qt - alpha_m a_n) - K (beta ((1-af)(vt - c_V qt) + af v_n) + af q_n)
-        #       + alpha_f r_n - P_z N0
-        apply(mass, x1, r1)
-        apply(stiffness, x2, r2)
-        for k in range(n):
-            rhs[k] = r1[k] - r2[k]
-        for c in range(contact_dofs.shape[0]):
-            rhs[contact_dofs[c, 0]] -= alpha_f * friction[c, 0]
-            rhs[contact_dofs[c, 1]] -= alpha_f * friction[c, 1]
-            rhs[contact_dofs[c, 2]] += alpha_f * normal[c] - normal0[c]
-        for k in range(drive_index.shape[0]):
-            rhs[drive_index[k]] += alpha_f * drive_x[k] * f_d_old
-        if prescribed:
-            for k in range(drive_index.shape[0]):
-                rhs[drive_index[k]] += alpha_f * drive_y[k] * f_hold_old
-        solve(inv, rhs, y)
+        free_response(q, v, a, friction, normal, f_d_old, f_hold_old, operators, contact.normal0,
+                      scheme, prescribed, work)
 
-        # Base at t_{n+1} (eqs 23-25).
+        # Base at t_{n+1} (eqs 23-25), and over the friction sub-steps: fewer while it
+        # has not started (contact_solve.still_substeps).
         u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
                                                          cos_phase, cos_step, sin_step)
         xb_new, yb_new = u_base * cos_theta, u_base * sin_theta
         dx_b, dy_b = xb_new - xb, yb_new - yb
-        # The base over the friction sub-steps (eq 23): its exact sinusoid, ending at u_base;
-        # fewer sub-steps while it has not started (contact_solve.still_substeps).
-        m = base_dx.shape[0] if t > t_on else still
-        u_prev = amplitude * math.sin(omega * (t - dt - t_on)) if t - dt >= t_on else 0.0
-        for j in range(m):
-            t_j = t - dt + (j + 1) * dt / m
-            u_j = u_base if j == m - 1 else (
-                amplitude * math.sin(omega * (t_j - t_on)) if t_j >= t_on else 0.0)
-            base_dx[j] = (u_j - u_prev) * cos_theta
-            base_free[j] = eta_y * (u_j - u_prev) * sin_theta  # phase 2: eta_y dy_b (eq 30)
-            u_prev = u_j
-        step = StepStart(q, v, vt, qt, base_dx[:m], base_free[:m])
+        m = work.base_dx.shape[0] if t > t_on else scheme.still_substeps
+        base_over_substeps(t, dt, u_base, amplitude, omega, t_on, cos_theta, sin_theta, eta_y,
+                           work.base_dx[:m], work.base_free[:m])
+        step = StepStart(q, v, work.vt, work.qt, work.base_dx[:m], work.base_free[:m])
 
-        # The contact-space fixed point, from the last step's g.
-        y_a = y_a_y = 0.0
-        for k in range(drive_index.shape[0]):
-            y_a += drive_x[k] * y[drive_index[k]]
-            y_a_y += drive_y[k] * y[drive_index[k]]
-        drive_now = (y_a_y, h_y, e_xy, e_yy)
-        apply(G, g_prev[:nc], target)
-        for p in range(nc):
-            yc[p] = y[contact_dofs[p // 3, p % 3]]
-            qc[p] = yc[p] + af1 * (target[p] + h[p] * g_prev[nc])
-        hg = 0.0
-        for p in range(nc):
-            hg += h[p] * g_prev[p]
-        x_a = x_a_best = y_a + af1 * (hg + e * g_prev[nc])
-        converged = False
-        iterations = 0
-        residual_old = best = np.inf
-        factor = 1.0
-        while iterations < max_iterations + FALLBACK_ITERATIONS:
-            iterations += 1
-            newton = iterations <= max_iterations
-            f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = contact_residual(
-                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
-                drive_now, scheme, states, work)
-            if residual < best:
-                best = residual
-                qc_best[:] = qc
-                x_a_best = x_a
-            if newton and residual >= residual_old and factor > MIN_STEP:
-                # No progress (a Newton step across a contact kink): halve it.
-                factor *= 0.5
-                for p in range(nc):
-                    qc[p] -= factor * delta[p]
-                continue
-            if newton:
-                newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, scheme,
-                                  mu_max, states, work)
-            else:
-                for p in range(nc):
-                    delta[p] = -rho[p]
-            change = abs(x_a_new - x_a)
-            for p in range(nc):
-                change = max(change, abs(delta[p]))
-                qc[p] += delta[p]
-            x_a = x_a_new
-            residual_old = residual
-            factor = 1.0
-            if change <= tolerance:
-                converged = True
-                break
-        if not converged:
-            if best > stall_tolerance:
-                return i, trouble.NOT_CONVERGED, 0
-            # Stalled on a node's contact kink, within the looser tolerance: take the best iterate.
-            scalars[STALLED] += 1
-            qc[:] = qc_best
-            x_a = x_a_best
-            f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = contact_residual(
-                qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
-                drive_now, scheme, states, work)
+        outcome, iterations, f_d, f_hold, f_n, f_x, f_y = iterate_contact(
+            t, step, operators, contact, params, drive, scheme, mu_max, states, g_prev, work)
+        if outcome == NOT_CONVERGED:
+            return i, trouble.NOT_CONVERGED, 0
+        if outcome == STALLED:
+            scalars[ITER_STALLED] += 1
         scalars[ITER_MAX] = max(scalars[ITER_MAX], iterations)
         scalars[ITER_SUM] += iterations
 
-        # q_{n+1} = y + (1 - alpha_f) Z [g_c; F_d] (with g from the last evaluation): on the
-        # contact DOFs that is the last iteration's target; the other rows take Z.
-        for p in range(nc):
-            gw[p] = g[p]
-            g_prev[p] = g[p]
-            q_new[contact_dofs[p // 3, p % 3]] = target[p]
-        gw[nc] = f_d
-        g_prev[nc] = f_d
-        gw[nc + 1] = g_prev[nc + 1] = f_hold
-        for r in range(others.shape[0]):
-            k = others[r]
-            s = 0.0
-            for p in range(nc + drives):
-                s += Z[k, p] * gw[p]
-            q_new[k] = y[k] + af1 * s
+        new_displacements(work.y, work.g, work.target, f_d, f_hold, operators, alpha_f, g_prev,
+                          work.gw, work.q_new)
         if use_energy:
-            # Rayleigh: beta dq^T K dq / dt (r1 = K dq).
-            for k in range(n):
-                x1[k] = q_new[k] - q[k]
-            apply(stiffness, x1, r1)
-            rayleigh = 0.0
-            for k in range(n):
-                rayleigh += x1[k] * r1[k]
-            sums[energy.D_DAMP] += beta * rayleigh / dt
-            # the attachment's velocity over the step (v_d once started)
-            moved = (prescribed_position(t, v_d) - prescribed_position(t - dt, v_d)
-                     if prescribed else v_d * dt)
-            sums[energy.W_DRIVE] += (af1 * f_d + alpha_f * f_d_old) * moved
-            add_contact_work(q, q_new, contact_dofs, penalty_share, area_share, params, states,
-                             trial_state, friction, force_t, normal, normal_t, alpha_f, dx_b,
-                             eta_y * dy_b, beta, dt, sums)
-        for k in range(n):
-            a_new = (q_new[k] - qt[k]) / (beta_n * dt * dt)
-            v[k] = vt[k] + gamma * dt * a_new
-            a[k] = a_new
-            q[k] = q_new[k]
-        # Commit the contact state of the converged evaluation.
-        for c in range(states.shape[0]):
-            states[c, :] = trial_state[c]
-            normal[c] = normal_t[c]
-            friction[c, 0] = force_t[c, 0]
-            friction[c, 1] = force_t[c, 1]
+            add_damping_and_drive_work(q, work.q_new, operators.stiffness, beta, dt, t, f_d,
+                                       f_d_old, alpha_f, v_d, prescribed, work.x1, work.r1, sums)
+            add_contact_work(q, work.q_new, operators.contact_dofs, contact.penalty_share,
+                             contact.area_share, params, states, work.trial_state, friction,
+                             work.force_t, normal, work.normal_t, alpha_f, dx_b, eta_y * dy_b,
+                             beta, dt, sums)
+        newmark_update(q, v, a, work.q_new, work.qt, work.vt, beta_n, gamma, dt)
+        magnitude = commit_contact(states, normal, friction, work)
         xb, yb = xb_new, yb_new
         f_d_old = f_d
         f_hold_old = f_hold
 
-        magnitude = 0.0
-        for c in range(states.shape[0]):
-            magnitude += math.sqrt(friction[c, 0] ** 2 + friction[c, 1] ** 2)
-        x_out = y_out = 0.0
-        for k in range(drive_index.shape[0]):
-            x_out += drive_x[k] * q[drive_index[k]]
-            y_out += drive_y[k] * q[drive_index[k]]
+        x_out, y_out = attachment_xy(q, operators.drive_index, operators.drive_x,
+                                     operators.drive_y)
         if not prescribed:
             f_d = k_d * (v_d * t - x_out)  # eq 17; prescribed: the iteration's reaction
         code = finish_step(t, t_on, f_d, f_n, f_x, f_y, x_out, y_out, xb, yb, magnitude, F_N,
@@ -618,17 +437,13 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         if code != trouble.OK:
             return i, code, 0
         if use_energy:
-            apply(mass, v, r1)
-            apply(stiffness, q, r2)
-            kinetic, elastic = energy_stored(q, v, r1, r2, contact_dofs, u0c[:, 2], normal0,
-                                             penalty_share, area_share, params, states, f_d,
-                                             spring)
-            row[recording.W_DRIVE] = sums[energy.W_DRIVE]
-            row[recording.W_BASE] = sums[energy.W_BASE]
-            row[recording.E_KIN] = kinetic
-            row[recording.E_EL] = elastic
-            row[recording.D_FRIC] = sums[energy.D_FRIC]
-            row[recording.D_DAMP] = sums[energy.D_DAMP]
+            apply(operators.mass, v, work.r1)
+            apply(operators.stiffness, q, work.r2)
+            kinetic, elastic = energy_stored(q, v, work.r1, work.r2, operators.contact_dofs,
+                                             contact.u0c[:, 2], contact.normal0,
+                                             contact.penalty_share, contact.area_share, params,
+                                             states, f_d, spring)
+            record_energy(row, sums, kinetic, elastic)
         if keep_step(i, f_d, recorder, steady):
             stop = i
             break

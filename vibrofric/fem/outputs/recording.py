@@ -129,13 +129,17 @@ def keep_step(i, f_d, recorder, steady):
     return settled(i, f_d, steady)
 
 
-# scalars[]: the state every time loop carries between chunks (an integrator may add more).
-XB, YB, SIN, COS, FN_MIN, FN_MAX, FN_MIN_ON, FN_MAX_ON = range(8)
+# scalars[]: the state every time loop carries between chunks; an integrator's own follow
+# from LOOP_SCALARS on (implicit.py's).
+LOOP_SCALARS = 8
+XB, YB, SIN, COS, FN_MIN, FN_MAX, FN_MIN_ON, FN_MAX_ON = range(LOOP_SCALARS)
 
 
 def initial_scalars(extra: int = 0) -> np.ndarray:
     """The base at rest, sin/cos of its phase, the normal-force extremes unset, ``extra`` zeros."""
-    return np.array([0.0, 0.0, 0.0, 1.0, np.inf, -np.inf, np.inf, -np.inf] + [0.0] * extra)
+    start = [0.0, 0.0, 0.0, 1.0, np.inf, -np.inf, np.inf, -np.inf]
+    assert len(start) == LOOP_SCALARS
+    return np.array(start + [0.0] * extra)
 
 
 @njit(cache=True, error_model="numpy")
