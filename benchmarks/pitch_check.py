@@ -30,7 +30,7 @@ sys.path.insert(0, str(ROOT))
 import law_agreement  # noqa: E402  (imports mpi4py before DOLFINx)
 import normal_force_swing  # noqa: E402
 
-from vibrofric.fem import run as fem_run  # noqa: E402
+from vibrofric.fem import simulate as fem_simulate  # noqa: E402
 
 NOMINAL = str(ROOT / "laws" / "dahl_nominal_normal.py")
 ROWS = str(ROOT / "laws" / "dahl_pitching_rows.py")
@@ -42,8 +42,8 @@ def fitted_pitch(exponent=0.5):
     over the contact nodes and the samples of the last 4 cycles (xi = -1 back, +1 front)."""
     scene = law_agreement.scene_for("dahl", {"dahl_exponent": exponent}, "stiff",
                                     **{"fem.output_every": normal_force_swing.SAMPLE})
-    fem_run.FrameWriter = normal_force_swing.NodeSampler
-    fem_run.run_fe(scene, vtk_dir=Path("/nonexistent"))
+    fem_simulate.FrameWriter = normal_force_swing.NodeSampler
+    fem_simulate.run_fe(scene, vtk_dir=Path("/nonexistent"))
     samples = normal_force_swing.NodeSampler.samples
     t = np.array([s[0] for s in samples])
     keep = t >= t[-1] - 4.0 / scene.vibration.f

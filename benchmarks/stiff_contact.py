@@ -32,7 +32,7 @@ from vibrofric.analytic import run_coupled, summarize
 from vibrofric.analytic.closed_form import coulomb_ratio
 from vibrofric.bench.machine import cpu_name
 from vibrofric.fem import run_fe
-from vibrofric.fem.model import build_model
+from vibrofric.fem.model.fe_model import build_model
 from vibrofric.fe_beside_analytic import analytic_scene
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"

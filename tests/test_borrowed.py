@@ -1,4 +1,4 @@
-"""fem.borrowed: arrays without reference counts, the same memory and values."""
+"""fem.integrators.borrowed: arrays without reference counts, the same memory and values."""
 
 import sys
 from typing import NamedTuple
@@ -8,7 +8,7 @@ import pytest
 from numba import njit
 from numba.core.errors import TypingError
 
-from vibrofric.fem.borrowed import borrowed
+from vibrofric.fem.integrators.borrowed import borrowed
 
 
 class Pair(NamedTuple):

@@ -18,7 +18,7 @@ from mpi4py import MPI  # noqa: E402  (before dolfinx: the PyPI wheel's libmpi)
 pytest.importorskip("dolfinx")
 
 from vibrofric import meshes  # noqa: E402
-from vibrofric.fem import dolfinx_adapter as adapter  # noqa: E402
+from vibrofric.fem.model import dolfinx_adapter as adapter  # noqa: E402
 
 E, NU, RHO = 210e9, 0.3, 7850.0  # steel
 SIZE = meshes.DEFAULT_SIZE       # 30 x 40 x 53 mm: three different edges
@@ -191,7 +191,7 @@ def test_frames_from_the_arrays_match_dolfinxs_own(tmp_path, monkeypatch):
     import dolfinx.fem
     import dolfinx.io
 
-    from vibrofric.fem import paraview
+    from vibrofric.fem.outputs import paraview
 
     mesh, _ = adapter.load_block(MPI.COMM_SELF, SIZE, "coarse")
     V = adapter.vector_space(mesh)

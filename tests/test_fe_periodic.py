@@ -1,4 +1,4 @@
-"""The FE model's steady state by shooting (fem/periodic.py, fem/cycle_map.py)."""
+"""The FE model's steady state by shooting (fem/integrators/periodic.py, fem/integrators/cycle_map.py)."""
 
 import json
 
@@ -9,7 +9,8 @@ from vibrofric import scene as scene_module
 from vibrofric.analytic.summary import summarize
 from vibrofric.cli import main
 from vibrofric.core import shooting
-from vibrofric.fem import periodic, run_fe
+from vibrofric.fem import run_fe
+from vibrofric.fem.integrators import periodic
 
 LONGITUDINAL = "scenes/longitudinal.toml"
 # The Fig 7 scene with the vibration on at 10 ms: a stepped run to T = 0.4 s has had

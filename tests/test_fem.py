@@ -20,10 +20,13 @@ from vibrofric.analytic.summary import unsettled_warning  # noqa: E402
 from vibrofric.core.errors import NumericalError, StepTooLong  # noqa: E402
 from vibrofric.core.series import RecordPlan, full_resolution_steps  # noqa: E402
 from vibrofric.fem import FEResult, run_fe  # noqa: E402
-from vibrofric.fem import explicit, model as fem_model, normal_swing, recording, simulate as fem_simulate  # noqa: E402
-from vibrofric.fem.paraview import FIELDS  # noqa: E402
-from vibrofric.fem.stability import max_frequency  # noqa: E402
-from vibrofric.fem.drive import drive_stiffness_action  # noqa: E402
+from vibrofric.fem import simulate as fem_simulate  # noqa: E402
+from vibrofric.fem.integrators import explicit  # noqa: E402
+from vibrofric.fem.model import fe_model  # noqa: E402
+from vibrofric.fem.outputs import normal_swing, recording  # noqa: E402
+from vibrofric.fem.outputs.paraview import FIELDS  # noqa: E402
+from vibrofric.fem.model.stability import max_frequency  # noqa: E402
+from vibrofric.fem.model.drive import drive_stiffness_action  # noqa: E402
 from vibrofric.fe_beside_analytic import fe_beside_analytic  # noqa: E402
 from vibrofric.scene import REFUSAL_KEYS  # noqa: E402
 
@@ -50,7 +53,7 @@ def comm():
 @pytest.mark.parametrize("path, mass", [(LONGITUDINAL, 0.5), (TRANSVERSE, 2.0)])
 def test_block_mass_loads_and_static_preload(path, mass, comm):
     scene = load(path)
-    m = fem_model.build_model(scene, comm)
+    m = fe_model.build_model(scene, comm)
     # Mass: rho = mass / volume and a row-sum lumped mass are exact (rounding only).
     assert m.block_mass == pytest.approx(mass, rel=1e-12)
     assert m.disc.mass[2::3].sum() == pytest.approx(mass, rel=1e-12)
@@ -82,7 +85,7 @@ def test_stable_step_is_the_largest_frequency_of_the_whole_stiffness(comm):
     """Lanczos on a small mesh against a dense eigensolve of M^-1/2 K_total M^-1/2
     (block + penalty + 2 k_t shares + drive); 1e-8 is the iteration's tolerance."""
     scene = load(LONGITUDINAL, 'fem.mesh="2x2x3"')
-    m = fem_model.build_model(scene, comm)
+    m = fe_model.build_model(scene, comm)
     K = m.stiffness.toarray()
     c = m.contact_nodes
     K[3 * c + 2, 3 * c + 2] += m.penalty_share
@@ -109,7 +112,7 @@ def test_the_loop_is_stable_just_below_dt_stable_and_not_just_above(factor, stab
     steps; 3% below it the run is quiet. Fails if dt_stable is over- or
     underestimated by more than 3%."""
     base = load(LONGITUDINAL)
-    m = fem_model.build_model(base, comm)
+    m = fe_model.build_model(base, comm)
     scene = load(LONGITUDINAL, f"time.dt={factor * m.dt_stable!r}", "vibration.t_on=0.0005",
                  "time.T=0.003", "time.average_cycles=2")
     monkeypatch.setattr(explicit, "check_step", lambda scene, model: None)
@@ -296,7 +299,7 @@ def test_a_parallel_communicator_is_refused():
 
 
 def test_nan_is_raised_as_numerical_error_with_the_time(comm, monkeypatch):
-    real = fem_model.build_model
+    real = fe_model.build_model
 
     def poisoned(scene, comm):
         model = real(scene, comm)

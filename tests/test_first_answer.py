@@ -1,4 +1,4 @@
-"""A first answer without hidden work: the model cache (disk_cache.py, fem/model_cache.py)
+"""A first answer without hidden work: the model cache (disk_cache.py, fem/model/model_cache.py)
 and the compile announcement and lock (friction_law/specialize.py)."""
 
 import json
@@ -106,10 +106,11 @@ def _short_scene(load_scene, integrator, dt):
 def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene, monkeypatch):
     from mpi4py import MPI
 
-    from vibrofric.fem import model, model_cache, reduction
+    from vibrofric.fem.integrators import reduction
+    from vibrofric.fem.model import fe_model, model_cache
 
     scene = _short_scene(load_scene, "reduced", 1e-5)
-    first = model.build_model(scene, MPI.COMM_SELF)
+    first = fe_model.build_model(scene, MPI.COMM_SELF)
     reduction.forget()
     first_reduction = reduction.reduced(first, scene.fem.cutoff * scene.vibration.f)
     entries = sorted(p.name.split("-")[0] for p in model_cache_dir.glob("*.npz"))
@@ -124,7 +125,7 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
     monkeypatch.setattr(model_cache, "assemble_block", no_assembly)
     monkeypatch.setattr(reduction.Reduction, "__init__", no_reduction)
     reduction.forget()
-    second = model.build_model(scene, MPI.COMM_SELF)
+    second = fe_model.build_model(scene, MPI.COMM_SELF)
     second_reduction = reduction.reduced(second, scene.fem.cutoff * scene.vibration.f)
     for name in ("coordinates", "mass", "cells"):
         assert np.array_equal(getattr(first.disc, name), getattr(second.disc, name))
@@ -140,10 +141,10 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
 def test_a_corrupt_model_entry_is_rebuilt(model_cache_dir, load_scene, monkeypatch):
     from mpi4py import MPI
 
-    from vibrofric.fem import model, model_cache
+    from vibrofric.fem.model import fe_model, model_cache
 
     scene = _short_scene(load_scene, "explicit", 1e-6)
-    first = model.build_model(scene, MPI.COMM_SELF)
+    first = fe_model.build_model(scene, MPI.COMM_SELF)
     (entry,) = model_cache_dir.glob("block-*.npz")
     data = bytearray(entry.read_bytes())
     data[len(data) // 2] ^= 0xFF
@@ -152,7 +153,7 @@ def test_a_corrupt_model_entry_is_rebuilt(model_cache_dir, load_scene, monkeypat
     assemble = model_cache.assemble_block
     monkeypatch.setattr(model_cache, "assemble_block",
                         lambda *args: assembled.append(1) or assemble(*args))
-    again = model.build_model(scene, MPI.COMM_SELF)
+    again = fe_model.build_model(scene, MPI.COMM_SELF)
     assert assembled                                # assembled anew, not read
     assert np.array_equal(first.disc.stiffness.data, again.disc.stiffness.data)
     assert disk_cache.read_arrays(entry) is not None  # and stored again, whole
@@ -161,7 +162,8 @@ def test_a_corrupt_model_entry_is_rebuilt(model_cache_dir, load_scene, monkeypat
 @pytest.mark.parametrize("integrator, dt", [("explicit", 1e-6), ("reduced", 1e-5)])
 def test_results_are_bit_identical_with_and_without_the_cache(model_cache_dir, load_scene,
                                                               monkeypatch, integrator, dt):
-    from vibrofric.fem import reduction, run_fe
+    from vibrofric.fem import run_fe
+    from vibrofric.fem.integrators import reduction
 
     scene = _short_scene(load_scene, integrator, dt)
     monkeypatch.setenv("VIBROFRIC_MODEL_CACHE", "0")
@@ -255,8 +257,8 @@ def test_will_compile_sees_memory_and_disk(tmp_path, monkeypatch):
     scene = scene_module.load(ROOT / "scenes" / "longitudinal.toml").with_law(_new_law(tmp_path, 7))
     law = scene.friction.law
     args = (0.5, 1.0, 1.0, False, 1.0, 1.0, 0.0, 1.0, 0.0, 0.0, 55.0,
-            law.initial_state(1)[0], scene.friction.params, 1e-6, 0, 1, 1, 1.0,
-            np.empty((0, 8)))
+            law.initial_state(1)[0], scene.friction.params, 1e-6, 1, 0, 1, 1, 1.0,
+            np.zeros(11), np.empty((0, 8)))
     dispatcher = coupled_loop.for_law(law)
     assert specialize.will_compile(dispatcher, args)
     load_coupled(scene)

@@ -21,13 +21,14 @@ from vibrofric import scene as scenes  # noqa: E402
 from vibrofric.analytic import run_coupled, summarize  # noqa: E402
 from vibrofric.core.errors import NumericalError  # noqa: E402
 from vibrofric.core.series import RecordPlan  # noqa: E402
-from vibrofric.fem import integrators, run_fe  # noqa: E402
-from vibrofric.fem import model as fem_model  # noqa: E402
-from vibrofric.fem.linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve  # noqa: E402
-from vibrofric.fem.drive import START_TIME, prescribed_position  # noqa: E402
-from vibrofric.fem.recording import ENERGY, Recorder, keep  # noqa: E402
-from vibrofric.fem.reduction import Reduction, compliance_error  # noqa: E402
-from vibrofric.fem.steady import SteadyState, settled  # noqa: E402
+from vibrofric.fem import run_fe  # noqa: E402
+from vibrofric.fem.integrators import registry  # noqa: E402
+from vibrofric.fem.model import fe_model  # noqa: E402
+from vibrofric.fem.model.linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve  # noqa: E402
+from vibrofric.fem.model.drive import START_TIME, prescribed_position  # noqa: E402
+from vibrofric.fem.outputs.recording import ENERGY, Recorder, keep  # noqa: E402
+from vibrofric.fem.integrators.reduction import Reduction, compliance_error  # noqa: E402
+from vibrofric.fem.outputs.steady import SteadyState, settled  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 LONGITUDINAL = ROOT / "scenes" / "longitudinal.toml"
@@ -81,9 +82,9 @@ def test_nested_dissection_orders_a_grid_for_less_fill(comm):
     the LU solves backward stably and like the minimum-degree one (1e-10: rounding
     through the matrix's condition), in the numba solve too, and it fills less than
     the minimum degree (1.9 M against 2.6 M entries)."""
-    from vibrofric.fem.linalg import dof_points, nested_dissection, symmetric_lu
+    from vibrofric.fem.model.linalg import dof_points, nested_dissection, symmetric_lu
 
-    model = fem_model.build_model(load(LONGITUDINAL, "fem.mesh=medium"), comm)
+    model = fe_model.build_model(load(LONGITUDINAL, "fem.mesh=medium"), comm)
     A = (model.stiffness + sp.diags(np.r_[np.full(model.dofs - 1, 1e7), 1e7])).tocsc()
     points = dof_points(model.disc.coordinates)
     order = nested_dissection(points)
@@ -223,7 +224,7 @@ def test_before_the_base_moves_fewer_friction_substeps_give_the_same_run(monkeyp
     included): 1.4e-11 of the largest drive force; 1e-10 allows for the normal
     force's variation within a step, which the sub-steps sample, on other
     builds' rounding."""
-    from vibrofric.fem import contact_solve, implicit
+    from vibrofric.fem.integrators import contact_solve, implicit
     scene = load(LONGITUDINAL, "fem.mesh=tiny", "fem.integrator=reduced", "time.dt=1e-5",
                  "vibration.t_on=0.02", "time.T=0.025", "time.average_cycles=4",
                  "fem.output_every=0")
@@ -280,7 +281,7 @@ def test_reduced_frames_show_the_whole_block(tmp_path, comm):
     total = fe.fields["friction_force"].sum(axis=0)
     assert total[:2] == pytest.approx([fe.series.F_x[-1], fe.series.F_y[-1]], rel=1e-12, abs=1e-12)
     coordinates, u = fe.fields["coordinates"], fe.fields["displacement"]
-    model = fem_model.build_model(scene, comm)
+    model = fe_model.build_model(scene, comm)
     moved = (u - model.u0.reshape(-1, 3))[:, 0]
     top = np.isclose(coordinates[:, 2], scene.body.size[2])
     Lx, Ly, Lz = scene.body.size
@@ -297,7 +298,7 @@ def test_craig_bampton_is_statically_exact_and_converges_with_the_cutoff(comm):
     for cutoffs 0, 5, 12, 20 f: the 12 kHz third harmonic sits between the
     block's rocking modes on its contact, 10.7 and 12.7 kHz)."""
     scene = load(LONGITUDINAL)
-    model = fem_model.build_model(scene, comm)
+    model = fe_model.build_model(scene, comm)
     errors = []
     for cutoff in (0.0, 5.0, 12.0, 20.0):
         reduction = Reduction(model, cutoff * scene.vibration.f)
@@ -320,15 +321,15 @@ def test_a_sweep_reuses_the_reduction_of_the_same_block_only(comm):
     sweep's points), made again for another cutoff or another block, and the
     kept full compliances give the error the uncached computation gives, bit
     for bit."""
-    from vibrofric.fem.reduction import forget, reduced
+    from vibrofric.fem.integrators.reduction import forget, reduced
     scene = load(LONGITUDINAL)
     cutoff = scene.fem.cutoff * scene.vibration.f
     forget()
-    model = fem_model.build_model(scene, comm)
+    model = fe_model.build_model(scene, comm)
     first = reduced(model, cutoff)
-    assert reduced(fem_model.build_model(scene, comm), cutoff) is first   # rebuilt, same block
+    assert reduced(fe_model.build_model(scene, comm), cutoff) is first   # rebuilt, same block
     assert reduced(model, 2 * cutoff) is not first
-    softer = fem_model.build_model(load(LONGITUDINAL, "body.E=1e11"), comm)
+    softer = fe_model.build_model(load(LONGITUDINAL, "body.E=1e11"), comm)
     assert reduced(softer, cutoff) is not reduced(model, cutoff)
     forget()
     fresh = compliance_error(model, Reduction(model, cutoff), scene)
@@ -346,11 +347,11 @@ def test_the_reduction_estimate_sees_a_stiff_contact_lift_the_rocking_modes(comm
     up to 8 f. There the default cutoff (12 f) errs by 5.2% at 5-6 f (measured; its
     run's F_dv was 10% below the implicit one) and 24 f by 0.2%: auto takes the
     reduced model only with the larger cutoff."""
-    from vibrofric.fem.reduction import MAX_HARMONICS, compared_harmonics
+    from vibrofric.fem.integrators.reduction import MAX_HARMONICS, compared_harmonics
     scene = load(LONGITUDINAL, "contact.k_t=8e9")
     assert list(compared_harmonics(scene)) == list(range(1, MAX_HARMONICS + 1))
     assert list(compared_harmonics(load(LONGITUDINAL))) == [1, 2, 3]   # the paper's k_t
-    model = fem_model.build_model(scene, comm)
+    model = fe_model.build_model(scene, comm)
     default, doubled = (compliance_error(model, Reduction(model, cutoff * scene.vibration.f),
                                          scene)["max"] for cutoff in (12.0, 24.0))
     assert default > scene.fem.accuracy > doubled
@@ -420,7 +421,7 @@ def test_prescribed_sliding_moves_the_attachment_at_v_d_and_matches_the_lumped_m
 ])
 def test_auto_picks_the_cheapest_that_meets_the_accuracy_and_says_why(overrides, picked, comm):
     scene = load(LONGITUDINAL, 'fem.integrator="auto"', *overrides)
-    run = integrators.select(scene)(scene, fem_model.build_model(scene, comm))
+    run = registry.select(scene)(scene, fe_model.build_model(scene, comm))
     assert run.name == picked
     assert run.choice.startswith(f"{picked}: the cheapest that meets fem.accuracy")
 
@@ -604,7 +605,7 @@ def test_without_friction_the_block_swings_on_the_drive_spring():
 def test_the_scene_offers_exactly_the_integrators_there_are():
     """scene.validate refuses an unknown fem.integrator before any work; the
     registry must hold every name it lets through, and no other."""
-    from vibrofric.fem.integrators import INTEGRATORS
+    from vibrofric.fem.integrators.registry import INTEGRATORS
     from vibrofric.scene import CHOICES
 
     assert set(CHOICES["fem.integrator"]) == set(INTEGRATORS)
@@ -616,7 +617,7 @@ def test_the_normal_force_goes_to_zero_with_the_penetration():
     """The penalty dashpot pushes at most as hard as the spring: a node touching down
     at speed meets no force at zero penetration (a jump there kept the implicit contact
     iteration alternating between its two sides). In steady contact nothing changes."""
-    from vibrofric.fem.contact import normal_force
+    from vibrofric.fem.model.contact import normal_force
     k, beta = 1.5e9, 6e-8
     assert normal_force(-1e-9, 0.0, k, beta) == k * 1e-9               # the spring alone
     assert normal_force(-1e-9, -1e-3, k, beta) == k * (1e-9 + beta * 1e-3)  # dashpot within
@@ -632,15 +633,15 @@ def test_a_step_too_long_for_a_stiff_contact_is_refused_naming_one_that_runs(nam
     iteration's estimated contraction is 0.60-0.61 > 0.5; the refusal names the halved
     step, whose estimate is within the bound (both measured)."""
     from vibrofric.core.errors import StepTooLong
-    from vibrofric.fem.contact_solve import MAX_CONTRACTION
+    from vibrofric.fem.integrators.contact_solve import MAX_CONTRACTION
     scene = load(LONGITUDINAL, *SHORT, f'fem.integrator="{name}"', "time.dt=1e-5",
                  "contact.k_t=8e9")
-    model = fem_model.build_model(scene, comm)
+    model = fe_model.build_model(scene, comm)
     with pytest.raises(StepTooLong, match=r"use time.dt <= (\S+) s") as refusal:
-        integrators.select(scene)(scene, model)
+        registry.select(scene)(scene, model)
     named = float(re.search(r"time.dt <= (\S+) s", str(refusal.value)).group(1))
     assert named < scene.time.dt
-    run = integrators.select(scene)(scene.with_values({"time.dt": named}), model)
+    run = registry.select(scene)(scene.with_values({"time.dt": named}), model)
     assert run.contraction <= MAX_CONTRACTION
 
 
@@ -664,7 +665,7 @@ def test_auto_leaves_a_stiff_contact_to_the_explicit_integrator_and_says_why(com
     integrators are trusted with (TRUSTED_SLIP_PER_STEP); the choice names the step
     at which they would be."""
     scene = load(LONGITUDINAL, 'fem.integrator="auto"', "time.dt=1e-6", "contact.k_t=8e9")
-    run = integrators.select(scene)(scene, fem_model.build_model(scene, comm))
+    run = registry.select(scene)(scene, fe_model.build_model(scene, comm))
     assert run.name == "explicit"
     named = float(re.search(r"time.dt <= (\S+) s would do", run.choice).group(1))
     assert named == pytest.approx(1e-6 * 2.0 / 5.09, rel=0.01)   # 2 s_c of 5.09 s_c a step

@@ -237,13 +237,13 @@ def test_1d_stepper_equals_coupled_along_x(name):
                  id="lugre-damped-transverse"),    # with its dampings
 ])
 def test_fe_node_reproduces_lumped_forces(name, overrides, contact):
-    """The FE model's per-node contact (fem.contact) on ONE node (area share 1, normal
+    """The FE model's per-node contact (fem.model.contact) on ONE node (area share 1, normal
     force F_N), driven by the lumped stepper's own body and base trajectory, returns the
     stepper's friction force at every step. Both call the same law update with the same
     increments, so they agree to rounding: 1e-10 relative leaves room only for a
     different order of floating-point operations, not for a different slip, free-end
     increment, stiffness share or Coulomb limit."""
-    from vibrofric.fem.contact import contact_forces
+    from vibrofric.fem.model.contact import contact_forces
 
     scene = short_scene(name, *overrides, **contact)
     lumped = run_coupled(scene)

@@ -30,7 +30,7 @@ FLOORS = (
 FLOOR = {name: level for level, names in enumerate(FLOORS) for name in names}
 # DOLFINx and its Python companions are imported by one module only.
 DOLFINX = {"dolfinx", "ufl", "petsc4py", "basix", "ffcx"}
-DOLFINX_ADAPTER = "fem/dolfinx_adapter.py"
+DOLFINX_ADAPTER = "fem/model/dolfinx_adapter.py"
 
 
 def package_of(path: Path) -> tuple:
@@ -110,3 +110,34 @@ def test_every_refusal_has_a_scene_key():
     refusals = {cls for cls in vars(errors).values()
                 if isinstance(cls, type) and issubclass(cls, errors.Refusal) and cls is not errors.Refusal}
     assert refusals and refusals == set(REFUSAL_KEYS)
+
+
+# Inside fem, bottom to top: the model as arrays, what a run records, the integrators that
+# step the model and record, and simulate (run_fe) on top.
+FEM_FLOORS = ("model", "outputs", "integrators", "simulate")
+
+
+@pytest.mark.parametrize("name", FEM_FLOORS)
+def test_fem_subpackages_import_only_the_ones_below(name):
+    fem = PACKAGE / "fem"
+    assert sorted(path.relative_to(fem).parts[0].removesuffix(".py") for path in fem.iterdir()
+                  if path.suffix == ".py" or (path / "__init__.py").exists()) \
+        == sorted(FEM_FLOORS + ("__init__",))
+    offending = {}
+    for path in sorted(fem.rglob("*.py")):
+        package = package_of(path)
+        if path.relative_to(fem).parts[0].removesuffix(".py") != name:
+            continue
+        names = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level > 0:
+                full = list(package[:len(package) - (node.level - 1)]) + (node.module or "").split(".")
+                if full[0] == "fem":
+                    names.add(full[1] if len(full) > 1 and full[1] else None)
+            elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("vibrofric.fem."):
+                names.add(node.module.split(".")[2])
+        above = {other for other in names - {None, name}
+                 if other not in FEM_FLOORS or FEM_FLOORS.index(other) >= FEM_FLOORS.index(name)}
+        if above:
+            offending[str(path.relative_to(PACKAGE))] = sorted(above)
+    assert offending == {}

@@ -19,7 +19,7 @@ def test_bound_is_the_slower_of_memory_and_arithmetic():
 
 def test_operator_costs_count_every_stored_entry():
     pytest.importorskip("dolfinx")   # fem imports the adapter's siblings
-    from vibrofric.fem.linalg import bsr, factorize
+    from vibrofric.fem.model.linalg import bsr, factorize
     from vibrofric.bench.step_breakdown import operator_cost
 
     rng = np.random.default_rng(1)

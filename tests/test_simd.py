@@ -1,4 +1,4 @@
-"""fem.simd: four-lane vectors in numba loops, each lane rounded as the scalar code rounds."""
+"""fem.model.simd: four-lane vectors in numba loops, each lane rounded as the scalar code rounds."""
 
 from fractions import Fraction
 
@@ -6,8 +6,8 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from vibrofric.fem import simd
-from vibrofric.fem.linalg import apply, bsr
+from vibrofric.fem.model import simd
+from vibrofric.fem.model.linalg import apply, bsr
 
 
 def fused(a: float, b: float, c: float) -> float:

@@ -16,8 +16,8 @@ estimate in the message. The estimates are rough upper bounds:
             freedom and step: the explicit loop of the coarse mesh; and for FE
             FRICTION_UPDATE_SECONDS per friction-law update of a contact node, of
             which a stiff or fast contact takes many a step (the explicit loop's
-            sub-steps, fem.explicit.explicit_substeps, at most
-            fem.contact.MAX_SUBSTEPS), and the analytic stepper run beside
+            sub-steps, fem.integrators.explicit.explicit_substeps, at most
+            fem.model.contact.MAX_SUBSTEPS), and the analytic stepper run beside
             at its own step (fe_beside_analytic.analytic_scene)
 """
 
@@ -36,9 +36,10 @@ CSV_BYTES_PER_VALUE = 25           # a double's repr and its comma
 VTK_BYTES_PER_NODE = 600           # 7 fields, 22 values a node, base64 + headers
 STEP_SECONDS = 1e-7                # the analytic stepper: 30-70 ns a step
 FE_STEP_SECONDS_PER_DOF = 6e-8     # explicit, coarse mesh: ~40 us for 720 DOFs
-FRICTION_UPDATE_SECONDS = 6e-8     # one law update of one node (fem.step_cost.COST["friction"])
+FRICTION_UPDATE_SECONDS = 6e-8     # one law update of one node (fem.integrators.step_cost.COST["friction"])
 POINT_BYTES = 16_384               # a sweep point without series: scene.toml, summary.json, checks.json
 LONGEST_RUN_S = 30 * 86400         # refused beyond: a typo in time.T rather than a study
+LONG_RUN_S = 3600                  # announced beyond (long_run_notice): within reach, but long
 
 
 def _bytes(n: float) -> str:
@@ -83,8 +84,8 @@ def contact_nodes(scene) -> int:
 
 def friction_updates(scene) -> int:
     """Friction-law updates a node takes in a step of the FE loop (its sub-steps)."""
-    from .fem.contact import MAX_SUBSTEPS
-    from .fem.explicit import explicit_substeps
+    from .fem.model.contact import MAX_SUBSTEPS
+    from .fem.integrators.explicit import explicit_substeps
 
     return min(explicit_substeps(scene), MAX_SUBSTEPS)
 
@@ -124,15 +125,16 @@ def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) ->
             "memory": memory, "disk": disk, "seconds": seconds}
 
 
-def check(scenes, fe: bool, out: Path, full_series: bool = False, series: bool = True) -> None:
+def check(scenes, fe: bool, out: Path, full_series: bool = False, series: bool = True) -> float:
     """Refuse, before any work, runs of ``scenes`` (one, or a sweep's points,
     run side by side on at most two processes) that cannot fit in this
     machine's memory, in the free disk under ``out``, or in LONGEST_RUN_S;
     ``full_series``: the runs write every kept row of their time series;
-    ``series``: they write their time series at all (see estimate)."""
+    ``series``: they write their time series at all (see estimate). Returns the
+    slowest run's estimated seconds."""
     needs = [(scene, estimate(scene, fe, full_series, series)) for scene in scenes]
     if not needs:  # a sweep none of whose points makes a scene: nothing will run
-        return
+        return 0.0
     scene, worst = max(needs, key=lambda pair: pair[1]["memory"])
     memory = available_memory()
     if worst["memory"] > memory:
@@ -156,3 +158,13 @@ def check(scenes, fe: bool, out: Path, full_series: bool = False, series: bool =
         raise SceneError("time.T", f"{scene.time.T:g} s at time.dt = {scene.time.dt:g} s is "
                                    f"{slowest['steps']:.3g} steps: ~{_duration(slowest['seconds'])} "
                                    f"of computing (refused beyond {_duration(LONGEST_RUN_S)})")
+    return slowest["seconds"]
+
+
+def long_run_notice(seconds: float) -> str | None:
+    """One line announcing a run estimated beyond LONG_RUN_S (a stiff contact's
+    friction sub-steps can make a short time.T take days), else None."""
+    if seconds <= LONG_RUN_S:
+        return None
+    return (f"vibrofric: this run is estimated at ~{_duration(seconds)} of computing "
+            "(Ctrl-C stops it; nothing is written before it ends)")

@@ -205,8 +205,9 @@ def cmd_analytic(args) -> None:
         scene = scene_module.load(scene_file(args.scene), args.overrides)
         check_stepper(scene, args.stepper)
         target, claim = _target(args, "analytic")
-        budget.check([scene], fe=False, out=target or Path("results"),
-                     full_series=args.full_series)
+        _announce(budget.long_run_notice(budget.check([scene], fe=False,
+                                                      out=target or Path("results"),
+                                                      full_series=args.full_series)))
         series, summary = solve(scene, args.stepper)
         series = written(series, scene, args.full_series)  # the summary is of every kept row
         target = target or output.default_dir(scene.name)
@@ -246,6 +247,12 @@ def _progress_bar(args, what: str, total: float):
     return progress, bar
 
 
+def _announce(line) -> None:
+    """``line`` on stderr, if there is one."""
+    if line:
+        print(line, file=sys.stderr, flush=True)
+
+
 def cmd_run(args) -> None:
     from . import budget
     from . import scene as scene_module
@@ -253,7 +260,8 @@ def cmd_run(args) -> None:
 
     scene = scene_module.load(scene_file(args.scene), args.overrides)
     target, claim = _target(args, "run")
-    budget.check([scene], fe=True, out=target or Path("results"), full_series=args.full_series)
+    _announce(budget.long_run_notice(budget.check([scene], fe=True, out=target or Path("results"),
+                                                  full_series=args.full_series)))
     target = target or output.default_dir(scene.name)
     progress, bar = _progress_bar(args, "FE", scene.time.T)
     with output.staged(target, "run", claimed=claim) as stage:

@@ -2,7 +2,7 @@
 
 The cache lives in $VIBROFRIC_CACHE, else $XDG_CACHE_HOME/vibrofric, else
 ~/.cache/vibrofric (``cache_root``): the meshes (meshes/), the FE models
-(models/: fem/model_cache.py). ``make clean-cache`` removes it.
+(models/: fem/model/model_cache.py). ``make clean-cache`` removes it.
 
 Several processes (a sweep's workers, MPI ranks, parallel test workers) may
 build the same entry at once. An entry is written to a temporary name in its

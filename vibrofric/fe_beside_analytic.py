@@ -93,7 +93,7 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
                   "stop_time_s": info["stop_time_s"], "saving": info["saving"],
                   "normal_force": info["F_n_kind"]}
     if info["F_n_kind"] == "transient" and not answered:  # its average holds part of it
-                                                            # (fem/normal_swing.py)
+                                                            # (fem/outputs/normal_swing.py)
         fe_summary["settled"] = False
     document = {"fe": fe_summary, "analytic": analytic,
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}

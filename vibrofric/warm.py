@@ -3,7 +3,7 @@
 numba compiles every time loop for each friction law (friction_law/specialize.py)
 and keeps what it compiled on disk. This runs a few steps of the Fig 7 scene
 with each built-in law through each stepper and integrator, so that numba's
-cache holds every built-in law's loops and the model cache (fem/model_cache.py)
+cache holds every built-in law's loops and the model cache (fem/model/model_cache.py)
 the default block: the first ``vibrofric run`` or ``analytic`` after
 ``make setup`` (which runs this) compiles nothing. A user's law still
 compiles on its first run, and says so.

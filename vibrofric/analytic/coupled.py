@@ -19,6 +19,7 @@ import numpy as np
 from numba import njit
 
 from ..core.base_motion import base_displacement, vibration_axis
+from ..core.chunks import run_in_chunks
 from ..core.errors import NumericalError
 from ..core.law_limits import divergence_force
 from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolution_steps
@@ -39,18 +40,31 @@ def record_row(out, j, t, f_d, f_x, f_y, x, y, xb, yb):
     out[j, 7] = yb
 
 
+# The coupled loop's state between two chunks of steps (core.chunks): the body's
+# displacement and velocity (eqs 13-16), the friction force (eqs 38-39), the base's
+# displacement (eqs 24-25), the base's phase, and the next row of the kept series.
+X, Y, VX, VY, FX, FY, XB, YB, SIN_PHASE, COS_PHASE, ROW = range(11)
+
+
+def at_rest() -> np.ndarray:
+    """The carried state at t = 0: everything at rest, the phase's cosine 1."""
+    carried = np.zeros(ROW + 1)
+    carried[COS_PHASE] = 1.0
+    return carried
+
+
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def coupled_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_theta, eta_y,
-                 F_N, state, params, dt, steps, stride, full_from, f_max, out):
-    """Run ``steps`` steps from the law's ``state`` at rest; keep rows in ``out``.
+                 F_N, state, params, dt, first, last, stride, full_from, f_max, carried, out):
+    """Run steps ``first``..``last`` from the law's ``state`` and the ``carried`` state
+    (at_rest() before step 1), both updated in place; keep rows in ``out``.
     Returns the failing step, or 0."""
-    x = y = vx = vy = 0.0           # body displacement and velocity (eqs 13-16)
-    f_x = f_y = 0.0                 # friction force (eqs 38-39)
-    xb = yb = 0.0                   # base displacement (eqs 24-25)
-    sin_phase, cos_phase = 0.0, 1.0
+    x, y, vx, vy = carried[X], carried[Y], carried[VX], carried[VY]
+    f_x, f_y, xb, yb = carried[FX], carried[FY], carried[XB], carried[YB]
+    sin_phase, cos_phase = carried[SIN_PHASE], carried[COS_PHASE]
     cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
-    j = 0
-    for i in range(1, steps + 1):
+    j = int(carried[ROW])
+    for i in range(first, last + 1):
         t = i * dt
         if prescribed:
             x_new, y_new = v_d * t, 0.0
@@ -73,6 +87,9 @@ def coupled_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_the
         if i >= full_from or i % stride == 0:
             record_row(out, j, t, f_d, f_x, f_y, x, y, xb, yb)
             j += 1
+    carried[X], carried[Y], carried[VX], carried[VY] = x, y, vx, vy
+    carried[FX], carried[FY], carried[XB], carried[YB] = f_x, f_y, xb, yb
+    carried[SIN_PHASE], carried[COS_PHASE], carried[ROW] = sin_phase, cos_phase, j
     return 0
 
 
@@ -88,15 +105,20 @@ def check_finished(failed_step: int, scene) -> None:
 
 
 def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
-    """The coupled loop, compiled for the scene's law, over ``plan``'s steps into ``out``;
-    returns the failing step, or 0."""
+    """The coupled loop, compiled for the scene's law, over ``plan``'s steps into ``out``
+    in chunks (core.chunks); returns the failing step, or 0."""
     cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
     law = scene.friction
-    args = (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
-            scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
-            scene.contact.eta_y, scene.contact.F_N, law.law.initial_state(1)[0], law.params,
-            scene.time.dt, plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
-    return coupled_loop.prepared(law.law, args, "the coupled analytic stepper")(*args)
+    state, carried = law.law.initial_state(1)[0], at_rest()
+
+    def args(first, last):
+        return (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
+                scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
+                scene.contact.eta_y, scene.contact.F_N, state, law.params, scene.time.dt,
+                first, last, plan.stride, plan.full_from, divergence_force(scene), carried, out)
+
+    loop = coupled_loop.prepared(law.law, args(1, 0), "the coupled analytic stepper")
+    return run_in_chunks(plan.steps, lambda first, last: loop(*args(first, last)))
 
 
 def load_coupled(scene) -> None:

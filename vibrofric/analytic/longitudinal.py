@@ -11,21 +11,25 @@ import math
 import numpy as np
 
 from ..core.base_motion import base_displacement
+from ..core.chunks import run_in_chunks
 from ..core.law_limits import divergence_force
 from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolution_steps
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
-from .coupled import record_row, check_finished
+from .coupled import (COS_PHASE, FX, ROW, SIN_PHASE, VX, XB, X, at_rest, check_finished,
+                      record_row)
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, F_N, state, params, dt,
-                      steps, stride, full_from, f_max, out):
-    x = v = f = x_b = 0.0
-    sin_phase, cos_phase = 0.0, 1.0
+                      first, last, stride, full_from, f_max, carried, out):
+    """Steps ``first``..``last`` as coupled.coupled_loop, in X only (``carried`` holds
+    coupled's slots X, VX, FX, XB, the phase and the row)."""
+    x, v, f, x_b = carried[X], carried[VX], carried[FX], carried[XB]
+    sin_phase, cos_phase = carried[SIN_PHASE], carried[COS_PHASE]
     cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
-    j = 0
-    for i in range(1, steps + 1):
+    j = int(carried[ROW])
+    for i in range(first, last + 1):
         t = i * dt
         if prescribed:
             x_new = v_d * t
@@ -43,6 +47,8 @@ def longitudinal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, F_N, state, p
         if i >= full_from or i % stride == 0:
             record_row(out, j, t, f_d, f, 0.0, x, 0.0, x_b, 0.0)
             j += 1
+    carried[X], carried[VX], carried[FX], carried[XB] = x, v, f, x_b
+    carried[SIN_PHASE], carried[COS_PHASE], carried[ROW] = sin_phase, cos_phase, j
     return 0
 
 
@@ -50,11 +56,16 @@ def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
     """The 1D loop, compiled for the scene's law, over ``plan``'s steps into ``out``;
     returns the failing step, or 0."""
     law = scene.friction
-    args = (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
-            scene.u0, scene.omega, scene.vibration.t_on, scene.contact.F_N,
-            law.law.initial_state(1)[0], law.params, scene.time.dt,
-            plan.steps, plan.stride, plan.full_from, divergence_force(scene), out)
-    return longitudinal_loop.prepared(law.law, args, "the longitudinal analytic stepper")(*args)
+    state, carried = law.law.initial_state(1)[0], at_rest()
+
+    def args(first, last):
+        return (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
+                scene.u0, scene.omega, scene.vibration.t_on, scene.contact.F_N, state,
+                law.params, scene.time.dt, first, last, plan.stride, plan.full_from,
+                divergence_force(scene), carried, out)
+
+    loop = longitudinal_loop.prepared(law.law, args(1, 0), "the longitudinal analytic stepper")
+    return run_in_chunks(plan.steps, lambda first, last: loop(*args(first, last)))
 
 
 def load_longitudinal(scene) -> None:

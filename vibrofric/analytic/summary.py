@@ -80,7 +80,7 @@ def unsettled_warning(summary: dict, label: str = "") -> str | None:
         return None
     what = f"{label} " if label else ""
     drift = summary["window_drift"]
-    if summary.get("normal_force") == "transient":     # an FE run's (fem/normal_swing.py)
+    if summary.get("normal_force") == "transient":     # an FE run's (fem/outputs/normal_swing.py)
         moved = ("the block's free vibration on its contact was still decaying as the "
                  "averaging window began (the summed normal force)")
     elif drift is None:

@@ -107,7 +107,7 @@ def _run_fe(scene, directory: Path, start=None) -> tuple:
     (the Fig 12 study: 123 s with them, 108 s without; every F_dv/F_d0 moved
     by at most 4e-8 of itself, as the set-up's products round differently).
     Returns (the result keys, the FE orbit state or None)."""
-    from ..fem.linalg import one_blas_thread
+    from ..fem.model.linalg import one_blas_thread
     from ..fe_beside_analytic import fe_beside_analytic
 
     with one_blas_thread():

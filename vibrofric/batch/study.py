@@ -74,7 +74,7 @@ class Outcome:
                 f"{len(self.failed)} failed, {len(self.unsettled)} unsettled, {self.wall_time_s:.1f} s")
         methods = [method(r) for r in self.records if ERROR not in r]
         methods = [m for m in methods if m is not None]
-        if methods:   # time.method periodic or auto (analytic/periodic.py, fem/periodic.py)
+        if methods:   # time.method periodic or auto (analytic/periodic.py, fem/integrators/periodic.py)
             line += (f"; {methods.count('periodic')} answered by their periodic orbit, "
                      f"{methods.count('transient')} stepped")
         worst = self.worst_fe_error()

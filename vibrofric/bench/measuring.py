@@ -70,7 +70,8 @@ def measure_fe(scene, integrator: str, mesh: str, dt: float, values=None) -> Mea
     """One FE run of ``scene`` with the integrator, mesh level and step (and ``values``),
     with its whole set-up (no reduction kept from an earlier run)."""
     from ..analytic.summary import summarize
-    from ..fem import reduction, run_fe
+    from ..fem import run_fe
+    from ..fem.integrators import reduction
 
     reduction.forget()
     case = scene.with_values({"fem.integrator": integrator, "fem.mesh": mesh, "time.dt": dt,
@@ -126,14 +127,14 @@ def measure_breakdown(scene, integrator: str, mesh: str, dt: float) -> Breakdown
     (step_breakdown)."""
     from mpi4py import MPI
 
-    from ..fem import integrators
-    from ..fem.model import build_model
+    from ..fem.integrators import registry
+    from ..fem.model.fe_model import build_model
     from .step_breakdown import breakdown
 
     run = min((measure_fe(scene, integrator, mesh, dt) for _ in range(2)),
               key=lambda m: m.loop_s / m.steps)
     case = scene.with_values({"fem.integrator": integrator, "fem.mesh": mesh, "time.dt": dt})
-    prepared = integrators.select(case)(case, build_model(case, MPI.COMM_SELF))
+    prepared = registry.select(case)(case, build_model(case, MPI.COMM_SELF))
     step_s = run.loop_s / run.steps
     return Breakdown(integrator, run.setting, step_s, breakdown(prepared, step_s, run.iterations))
 

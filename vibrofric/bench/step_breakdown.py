@@ -19,7 +19,7 @@ bookkeeping) is the measured step less its timed parts.
 
     breakdown(run, step_s, iterations) -> [Part, ...]
 
-``run`` is a prepared integrator (fem.integrators.select), ``step_s`` its measured
+``run`` is a prepared integrator (fem.integrators.registry.select), ``step_s`` its measured
 seconds a step, ``iterations`` its mean contact iterations a step.
 """
 
@@ -31,9 +31,9 @@ from numba import njit
 
 from ..core.law_limits import sliding_length
 from ..friction_law.contract import FASTMATH
-from ..fem.contact import contact_forces
-from ..fem.explicit import central_difference, damped_displacement, external_less
-from ..fem.linalg import SparseLU, apply, bsr, one_blas_thread, solve
+from ..fem.model.contact import contact_forces
+from ..fem.integrators.explicit import central_difference, damped_displacement, external_less
+from ..fem.model.linalg import SparseLU, apply, bsr, one_blas_thread, solve
 from . import machine
 
 

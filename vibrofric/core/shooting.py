@@ -6,7 +6,7 @@ same scheme returns to itself (in the frame that moves with the drive):
 
     R(z) = Phi(z) - z = 0,        Phi = one base cycle of the stepper
 
-(analytic/periodic.py for the lumped steppers, fem/periodic.py for the FE
+(analytic/periodic.py for the lumped steppers, fem/integrators/periodic.py for the FE
 integrators). Here: the whole number of steps a cycle takes, the Orbit and its
 summary block, the judgement of the Floquet multipliers (the eigenvalues of
 dPhi/dz at the orbit), and, for states too large for a finite-difference
@@ -69,7 +69,7 @@ def instability(multipliers: np.ndarray, stable: float = STABLE) -> str:
 
 @dataclass
 class Orbit:
-    """What a shooting found (analytic/periodic.py, fem/periodic.py).
+    """What a shooting found (analytic/periodic.py, fem/integrators/periodic.py).
 
     converged            Newton's residual reached its tolerance
     stable               every Floquet multiplier inside the unit circle (STABLE)

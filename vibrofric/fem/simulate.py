@@ -8,11 +8,11 @@ from dataclasses import dataclass, field
 from ..core.series import RecordPlan, TimeSeries, averaging_steps, full_resolution_steps
 from ..core.shooting import periodic_block
 from ..meshes import level_counts
-from . import integrators, periodic
-from .model import build_model
-from .normal_swing import judge
-from .paraview import FrameWriter, node_fields
-from .recording import COLUMNS, extra_columns
+from .integrators import periodic, registry
+from .model.fe_model import build_model
+from .outputs.normal_swing import judge
+from .outputs.paraview import FrameWriter, node_fields
+from .outputs.recording import COLUMNS, extra_columns
 
 
 @dataclass
@@ -24,7 +24,7 @@ class FEResult:
             the preload), x_b, y_b, and extra["F_n"] (summed normal reaction),
             with fem.energy also extra[recording.ENERGY]; the rows the analytic
             stepper keeps up to the step the run ended at (early steady
-            state: steady.py), so summarize() applies as is
+            state: outputs/steady.py), so summarize() applies as is
     info    what the run was and cost (run_info)
     fields  the node fields at the last step, as in the ParaView frames
             (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3)
@@ -65,7 +65,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResul
 
     comm     an MPI communicator of one process (default MPI.COMM_SELF)
     vtk_dir  if given and fem.output_every > 0: write vtk_dir/block.pvd, a frame
-             every fem.output_every steps (paraview.py); a run answered by its
+             every fem.output_every steps (outputs/paraview.py); a run answered by its
              steady cycle writes periodic.FRAMES_PER_CYCLE + 1 frames of that cycle
     progress if given, called as progress(t_done_s, t_total_s) every few
              thousand steps of the time loop (simulated seconds)
@@ -73,7 +73,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResul
              state (FEResult.orbit.z) to shoot from (sweeps: continuation)
 
     With time.method "periodic" or "auto" (and vibration) the steady cycle is shot
-    for first (periodic.py); where that does not converge or the orbit is not
+    for first (integrators/periodic.py); where that does not converge or the orbit is not
     stable, the scene is stepped through T as with "transient". info["periodic"]
     (core.shooting.periodic_block) says which answered.
 
@@ -84,7 +84,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResul
     """
     start_time = time.perf_counter()
     comm = _communicator(comm)
-    prepare = integrators.select(scene)
+    prepare = registry.select(scene)
     model = build_model(scene, comm)
     orbit = None
     if scene.time.method != "transient" and scene.vibrated:
@@ -175,10 +175,10 @@ def run_info(scene, model, integrator, stats: dict, swing, writer, clock: Clock)
 
     model_info's keys; the steps (steps run, steps_planned, stopped_early,
     stop_time_s: None if it ran to time.T, saving: the fraction of the planned
-    steps not run, steady_tolerance, steady_cycles, steady_change: steady.py);
+    steps not run, steady_tolerance, steady_cycles, steady_change: outputs/steady.py);
     normal_force_info's keys; frames and vtk (the .pvd path or None);
     setup_time_s, loop_time_s, wall_time_s; what the integrator's set-up reports
-    (implicit.py ImplicitRun.info, reduction.py ReducedRun.info) and its
+    (integrators/implicit.py ImplicitRun.info, integrators/reduction.py ReducedRun.info) and its
     iterations_* statistics.
     """
     return {
@@ -195,7 +195,7 @@ def run_info(scene, model, integrator, stats: dict, swing, writer, clock: Clock)
     }
 
 
-# The integrators' statistics of the steps run (time_loop, steady.py), as they report them.
+# The integrators' statistics of the steps run (time_loop, outputs/steady.py), as they report them.
 STEP_KEYS = ("steps", "steps_planned", "stopped_early", "stop_time_s", "saving",
              "steady_tolerance", "steady_cycles", "steady_change")
 

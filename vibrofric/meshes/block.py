@@ -8,7 +8,7 @@ are physical groups whose tags are the module constants below.
 gmsh is imported only while a mesh is built or read. gmsh 4.8 resets Ctrl-C
 (SIGINT) to the default handler until ``gmsh.finalize()``, newer versions also
 SIGTERM, for good: ``gmsh_model`` puts Python's handlers back. This package
-never imports DOLFINx: ``vibrofric.fem.dolfinx_adapter.load_block`` turns the
+never imports DOLFINx: ``vibrofric.fem.model.dolfinx_adapter.load_block`` turns the
 cached file into a DOLFINx mesh.
 """
 

@@ -112,7 +112,7 @@ class Time:
     series_dt: float = 1e-5                # s, sampling of the written time series
     steady_tolerance: float = 0.0          # FE: stop once the window-averaged drive force changes
                                            # by at most this fraction over steady_cycles cycles;
-                                           # 0: run to T (fem/steady.py)
+                                           # 0: run to T (fem/outputs/steady.py)
     steady_cycles: int = 0                 # vibration cycles the settled average must hold;
                                            # 0: those of the averaging window
     settle_tolerance: float = 0.005        # a result is "settled" when its drive-force mean moved
@@ -120,7 +120,7 @@ class Time:
                                            # averaging windows (analytic/summary.py)
     method: str = "transient"              # "transient" (step through T), "periodic" (the
                                            # steady cycle by shooting: analytic/periodic.py,
-                                           # fem/periodic.py; stepping where it fails) or
+                                           # fem/integrators/periodic.py; stepping where it fails) or
                                            # "auto" (the same)
 
 
@@ -128,18 +128,18 @@ class Time:
 class Fem:
     mesh: str = "coarse"                   # refinement level, see vibrofric.meshes
     integrator: str = "explicit"           # "explicit" | "implicit" | "reduced" | "auto"
-                                           # (fem/integrators.py)
+                                           # (fem/integrators/registry.py)
     penalty: typing.Optional[float] = None  # N/m for the whole contact face; default 10 E A / L_z
     output_every: int = 2000               # steps between ParaView frames; 0: none
     damping: float = 0.0                   # stiffness-proportional damping beta, s; 0: 6% at the top mode
     rho_infinity: float = 0.9              # implicit, reduced: generalized-alpha's spectral radius at
-                                           # infinite frequency; 1 = trapezoidal rule (fem/implicit.py)
+                                           # infinite frequency; 1 = trapezoidal rule (fem/integrators/implicit.py)
     cutoff: float = 12.0                   # reduced: keep the block's fixed-interface modes below
-                                           # cutoff * vibration.f (fem/reduction.py)
+                                           # cutoff * vibration.f (fem/integrators/reduction.py)
     accuracy: float = 0.01                 # auto: the relative error of F_dv / F_d0 it may trade
-                                           # for speed (fem/integrators.py)
+                                           # for speed (fem/integrators/registry.py)
     energy: bool = False                   # implicit, reduced: record the energy balance
-                                           # (fem/energy.py)
+                                           # (fem/outputs/energy.py)
 
 
 SECTIONS = {"body": Body, "contact": Contact, "drive": Drive,

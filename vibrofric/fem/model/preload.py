@@ -22,7 +22,7 @@ equal the applied normal load F_N to solver precision.
 import numpy as np
 import scipy.sparse as sp
 
-from ..core.errors import NormalLoadTooSmall
+from ...core.errors import NormalLoadTooSmall
 from .linalg import symmetric_lu
 
 REGULARIZATION = 1e-9

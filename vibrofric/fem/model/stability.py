@@ -24,7 +24,7 @@ import scipy.sparse.linalg as sla
 
 # Default damping (scene fem.damping = 0): stiffness-proportional Rayleigh
 # damping beta = 2 XI_MAX / w_max, i.e. a damping ratio XI_MAX in the mesh's
-# highest mode and xi(w) = XI_MAX w / w_max below it.  See model.py (DAMPING)
+# highest mode and xi(w) = XI_MAX w / w_max below it.  See fe_model.py (DAMPING)
 # for what this has to damp and why this value.
 XI_MAX = 0.06
 

@@ -29,7 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.series import averaging_steps
+from ...core.series import averaging_steps
 
 # ints[]: the detector's integer state; floats[]: its real state.
 CYCLE, SEEN, MEANS, STOPPED = range(4)

@@ -48,10 +48,16 @@ frequencies; the difference of the two sides measures that numerical dissipation
 
 from numba import njit
 
-from ..friction_law import law_kernel
+from ...friction_law import law_kernel
+from ...friction_law.contract import FASTMATH
+from ..model.drive import prescribed_position
+from ..model.linalg import apply
+from . import recording
 
-# sums[]: the accumulated inputs and dissipations
-W_DRIVE, W_BASE, D_FRIC, D_DAMP = range(4)
+# sums[]: the accumulated inputs and dissipations (each recorded row copies them into its
+# columns recording.W_DRIVE ... D_DAMP: ``record``)
+SUM_W_DRIVE, SUM_W_BASE, SUM_D_FRIC, SUM_D_DAMP = range(4)
+SUMS = 4
 
 
 @njit(cache=True, error_model="numpy")
@@ -78,12 +84,12 @@ def add_contact_work(q_old, q_new, contact_dofs, penalty_share, area_share, para
         ix, iy, iz = contact_dofs[c, 0], contact_dofs[c, 1], contact_dofs[c, 2]
         fx = a * force_new[c, 0] + alpha_f * force_old[c, 0]
         fy = a * force_new[c, 1] + alpha_f * force_old[c, 1]
-        sums[W_BASE] -= fx * db_x + fy * db_y
-        sums[D_FRIC] += (fx * (q_new[ix] - q_old[ix] - db_x) + fy * (q_new[iy] - q_old[iy] - db_y)
+        sums[SUM_W_BASE] -= fx * db_x + fy * db_y
+        sums[SUM_D_FRIC] += (fx * (q_new[ix] - q_old[ix] - db_x) + fy * (q_new[iy] - q_old[iy] - db_y)
                          - law_energy(states_new[c], params, area_share[c])  # noqa: F821
                          + law_energy(states_old[c], params, area_share[c]))  # noqa: F821
         if normal_old[c] > 0.0 and normal_new[c] > 0.0:
-            sums[D_DAMP] += beta * penalty_share[c] * (q_new[iz] - q_old[iz]) ** 2 / dt
+            sums[SUM_D_DAMP] += beta * penalty_share[c] * (q_new[iz] - q_old[iz]) ** 2 / dt
 
 
 @law_kernel(cache=True, error_model="numpy")
@@ -98,3 +104,36 @@ def stored(q, v, mass_v, stiffness_q, contact_dofs, u0_z, normal0, penalty_share
         elastic += penalty_energy(q[contact_dofs[c, 2]], u0_z[c], normal0[c], penalty_share[c])
         elastic += law_energy(states[c], params, area_share[c])  # noqa: F821 (the law's)
     return kinetic, elastic + 0.5 * f_d * f_d / k_d
+
+
+# Inlined by numba into the implicit loop that calls it: as a function of its own, its
+# D_damp rounded differently from the loop written in one piece before (by 2e-16).
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+def add_damping_and_drive_work(q_old, q_new, stiffness, beta, dt, t, f_d, f_d_old, alpha_f,
+                               v_d, prescribed, dq, k_dq, sums):
+    """Add one step's Rayleigh dissipation beta dq^T K dq / dt and the drive's work
+    F_d,bar (x_B(t) - x_B(t - dt)) (F_d,bar = (1 - af) F_d + af F_d,old; x_B moves at
+    v_d, a prescribed drive as drive.prescribed_position) to ``sums``; dq and k_dq
+    are scratch vectors."""
+    for k in range(q_old.shape[0]):
+        dq[k] = q_new[k] - q_old[k]
+    apply(stiffness, dq, k_dq)
+    rayleigh = 0.0
+    for k in range(q_old.shape[0]):
+        rayleigh += dq[k] * k_dq[k]
+    sums[SUM_D_DAMP] += beta * rayleigh / dt
+    moved = (prescribed_position(t, v_d) - prescribed_position(t - dt, v_d)
+             if prescribed else v_d * dt)
+    sums[SUM_W_DRIVE] += ((1.0 - alpha_f) * f_d + alpha_f * f_d_old) * moved
+
+
+@njit(cache=True, error_model="numpy")
+def record(row, sums, kinetic, elastic):
+    """The energy columns of a recorded row (recording.ENERGY) from the sums and the
+    stored energies."""
+    row[recording.W_DRIVE] = sums[SUM_W_DRIVE]
+    row[recording.W_BASE] = sums[SUM_W_BASE]
+    row[recording.E_KIN] = kinetic
+    row[recording.E_EL] = elastic
+    row[recording.D_FRIC] = sums[SUM_D_FRIC]
+    row[recording.D_DAMP] = sums[SUM_D_DAMP]

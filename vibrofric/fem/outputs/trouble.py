@@ -8,8 +8,8 @@ import math
 
 from numba import njit
 
-from ..core.errors import NumericalError
-from ..core.law_limits import DIVERGED
+from ...core.errors import NumericalError
+from ...core.law_limits import DIVERGED
 
 # Codes returned by the time loops, and what they mean.
 OK, NOT_FINITE, FRICTION_DIVERGED, NORMAL_BLOWUP, LIFT_OFF, NOT_CONVERGED = range(6)

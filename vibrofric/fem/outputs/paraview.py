@@ -6,7 +6,7 @@ Every frame holds, on the mesh's Q1 nodes:
     velocity           v (vector, m/s)
     contact_pressure   N_i / a_i (Pa) on the contact nodes, 0 elsewhere
     friction_traction  F_i / a_i (vector, Pa): the friction force per tributary area
-    friction_force     F_i (vector, N): the nodal friction force of contact.py, so
+    friction_force     F_i (vector, N): the nodal friction force of model/contact.py, so
                        that its sum over the contact face is the series' (F_x, F_y)
     asperity_deformation  the law's elastic deformation (vector, m; Dahl, LuGre: s_i e_i = N' - M)
     slip               (u_x - u0_x - x_b, u_y - u0_y - y_b) (vector, m): the node's

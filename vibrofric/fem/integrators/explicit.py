@@ -5,15 +5,15 @@ With the lumped (diagonal) mass M, one step from t_n to t_{n+1} = t_n + dt is
     f_n       = f_ext - K (u_n + beta v_n)                  elastic + Rayleigh damping C = beta K
               + sum_i [N_i e_z - F_i]_n                     contact: normal (penalty spring and its
                                                             share beta k_pen w_i of the damping)
-                                                            and friction (contact.py)
+                                                            and friction (model/contact.py)
               + sum_a w_a F_d,n e_x                         drive, F_d,n = k_d (v_d t_n - x_A,n) (eq 17)
     v_{n+1/2} = v_{n-1/2} + dt M^-1 f_n
     u_{n+1}   = u_n + dt v_{n+1/2}
 
 (the damping uses the lagging velocity v_{n-1/2}, as Abaqus does, which keeps
-the step explicit; stable while dt <= dt_crit, stability.py). Then the base
+the step explicit; stable while dt <= dt_crit, model/stability.py). Then the base
 moves to its position at t_{n+1} (eqs 23-25), every contact node's normal force
-and asperity are updated from its displacement increment (contact.py, the
+and asperity are updated from its displacement increment (model/contact.py, the
 VFRIC analogue), and F_d = k_d (v_d t_{n+1} - x_A,n+1) is recorded. A node
 that slides more than contact.SUBSTEP_ONSET sliding lengths in the step (a
 stiff contact) runs its friction law on sub-steps of the step's increments.
@@ -25,7 +25,7 @@ force from the start of the step, friction force from the previous update.
 The whole step (sparse product with K in 3x3 node blocks, contact, friction,
 drive, base, recording, checks, early steady state) is one numba loop; Python
 only sees the run again every ``fem.output_every`` steps, to write a ParaView
-frame. Energy accounting (fem.energy) is the implicit integrators' (energy.py).
+frame. Energy accounting (fem.energy) is the implicit integrators' (outputs/energy.py).
 """
 
 import math
@@ -33,17 +33,18 @@ import math
 import numpy as np
 from numba import njit
 
-from ..core.base_motion import base_displacement, vibration_axis
-from ..friction_law import law_kernel
-from ..friction_law.contract import FASTMATH
-from ..core.errors import NoEnergyBalance
-from ..core.law_limits import SLIP_PER_STEP, slip_per_step, sliding_length
-from . import step_cost, trouble
-from .contact import SUBSTEP_ONSET, contact_forces
-from .drive import attachment_position, prescribed_position
-from .linalg import apply, bsr
-from .model import check_step
-from .recording import COS, SIN, XB, YB, finish_step, keep_step
+from ...core.base_motion import base_displacement, vibration_axis
+from ...friction_law import law_kernel
+from ...friction_law.contract import FASTMATH
+from ...core.errors import NoEnergyBalance
+from ...core.law_limits import SLIP_PER_STEP, slip_per_step, sliding_length
+from . import step_cost
+from ..outputs import trouble
+from ..model.contact import SUBSTEP_ONSET, contact_forces
+from ..model.drive import attachment_position, prescribed_position
+from ..model.linalg import apply, bsr
+from ..model.fe_model import check_step
+from ..outputs.recording import COS, SIN, XB, YB, finish_step, keep_step
 from .time_loop import Started, TimeLoop
 
 
@@ -71,6 +72,67 @@ def central_difference(u, v, force, inverse_mass, dt):
         u[k] += dt * v[k]
 
 
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def step_forces(u, v, beta, stiffness, load, contact_nodes, friction, normal, attach_nodes,
+                attach_weights, f_d, work, force_sum):
+    """f_n = f_ext - K (u + beta v) + sum_i [N_i e_z - F_i] + sum_a w_a F_d e_x: the
+    elastic and Rayleigh damping forces, the contact's (normal force up, friction -F on
+    the body, from the last update) and the drive's, into ``force_sum``."""
+    damped_displacement(u, v, beta, work)
+    apply(stiffness, work, force_sum)  # K in 3x3 node blocks (linalg.bsr)
+    external_less(load, force_sum)
+    for c in range(contact_nodes.shape[0]):
+        d = 3 * contact_nodes[c]
+        force_sum[d] -= friction[c, 0]
+        force_sum[d + 1] -= friction[c, 1]
+        force_sum[d + 2] += normal[c]
+    for a in range(attach_nodes.shape[0]):
+        force_sum[3 * attach_nodes[a]] += attach_weights[a] * f_d
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def held_attachment(u, v, t, dt, v_d, reference, attach_nodes, attach_weights, inverse_mass,
+                    compliance):
+    """A prescribed drive's constraints x_A = v_d t (drive.prescribed_position), y_A = 0 at
+    the step's end: the forces on the attachment nodes (by their weights w_a) that put it
+    there, F_d = (x_A(t) - x_A*) / (dt^2 sum_a w_a^2 / m_a) from the step without them
+    (x_A*), and in Y the same towards 0. Moves u and v by them; returns F_d."""
+    x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
+    f_d = (prescribed_position(t, v_d) - x_a) / (dt * dt * compliance)
+    f_hold = -y_a / (dt * dt * compliance)   # held in Y (lumped mass: the same in X and Y)
+    for a in range(attach_nodes.shape[0]):
+        d = 3 * attach_nodes[a]
+        kick = dt * inverse_mass[d] * attach_weights[a]
+        v[d] += kick * f_d
+        u[d] += dt * kick * f_d
+        v[d + 1] += kick * f_hold
+        u[d + 1] += dt * kick * f_hold
+    return f_d
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def contact_motion(u, v, contact_nodes, disp_new, vel_z):
+    """The contact nodes' displacements (disp_new) and Z velocities at the step's end."""
+    for c in range(contact_nodes.shape[0]):
+        d = 3 * contact_nodes[c]
+        disp_new[c, 0] = u[d]
+        disp_new[c, 1] = u[d + 1]
+        disp_new[c, 2] = u[d + 2]
+        vel_z[c] = v[d + 2]
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def next_contact_start(disp, disp_new, friction):
+    """The step's end displacements become the next step's start; returns sum |F_i|."""
+    magnitude = 0.0
+    for c in range(disp.shape[0]):
+        disp[c, 0] = disp_new[c, 0]
+        disp[c, 1] = disp_new[c, 1]
+        disp[c, 2] = disp_new[c, 2]
+        magnitude += math.sqrt(friction[c, 0] ** 2 + friction[c, 1] ** 2)
+    return magnitude
+
+
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def explicit_steps(first, last, dt,
                    stiffness, inverse_mass, load, beta,
@@ -81,19 +143,16 @@ def explicit_steps(first, last, dt,
                    reference, u, v, work, force_sum, disp, disp_new, vel_z,
                    states, normal, friction, scalars, recorder, steady):
     """Advance steps ``first`` .. ``last`` (inclusive). Returns (failed step, code, stop step):
-    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (steady.py).
+    (0, OK, 0) if all ran, (0, OK, i) if the run settled at step i (outputs/steady.py).
 
     ``stiffness`` is K in block sparse rows of 3x3 node blocks (linalg.bsr).
     A ``prescribed`` drive (drive.mode = "velocity") replaces the spring by the
-    constraints x_A = v_d t (drive.prescribed_position), y_A = 0: their forces (on
-    the nodes by their weights w_a) are those that put the attachment there at the
-    end of the step,
-    F_d = (x_A(t) - x_A*) / (dt^2 sum_a w_a^2 / m_a), x_A* the step without it
-    (and in Y the same towards 0).
+    constraints x_A = v_d t, y_A = 0 (held_attachment).
     All state lives in the arrays (u, v, disp, states, normal,
     friction, scalars, recorder, steady) so that a run can be resumed chunk by chunk.
+    Only contact.contact_forces calls the friction law; the rest is compiled once
+    for every law.
     """
-    contacts = contact_nodes.shape[0]
     row = recorder[0]
     xb, yb = scalars[XB], scalars[YB]
     sin_phase, cos_phase = scalars[SIN], scalars[COS]
@@ -107,32 +166,12 @@ def explicit_steps(first, last, dt,
         # Drive force at the start of the step (eq 17).
         x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
         f_d = 0.0 if prescribed else k_d * (v_d * (t - dt) - x_a)
-
-        # f = f_ext - K (u + beta v): elastic and stiffness-proportional damping forces.
-        damped_displacement(u, v, beta, work)
-        apply(stiffness, work, force_sum)  # K in 3x3 node blocks (linalg.bsr)
-        external_less(load, force_sum)
-        # Contact: normal force up, friction -F on the body (from the last update).
-        for c in range(contacts):
-            d = 3 * contact_nodes[c]
-            force_sum[d] -= friction[c, 0]
-            force_sum[d + 1] -= friction[c, 1]
-            force_sum[d + 2] += normal[c]
-        # Drive: F_d spread over the attachment nodes by their weights.
-        for a in range(attach_nodes.shape[0]):
-            force_sum[3 * attach_nodes[a]] += attach_weights[a] * f_d
+        step_forces(u, v, beta, stiffness, load, contact_nodes, friction, normal, attach_nodes,
+                    attach_weights, f_d, work, force_sum)
         central_difference(u, v, force_sum, inverse_mass, dt)
         if prescribed:
-            x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
-            f_d = (prescribed_position(t, v_d) - x_a) / (dt * dt * compliance)
-            f_hold = -y_a / (dt * dt * compliance)   # held in Y (lumped mass: the same in X and Y)
-            for a in range(attach_nodes.shape[0]):
-                d = 3 * attach_nodes[a]
-                kick = dt * inverse_mass[d] * attach_weights[a]
-                v[d] += kick * f_d
-                u[d] += dt * kick * f_d
-                v[d + 1] += kick * f_hold
-                u[d + 1] += dt * kick * f_hold
+            f_d = held_attachment(u, v, t, dt, v_d, reference, attach_nodes, attach_weights,
+                                  inverse_mass, compliance)
 
         # Base at t_{n+1} (eqs 23-25).
         u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
@@ -140,22 +179,12 @@ def explicit_steps(first, last, dt,
         xb_new, yb_new = u_base * cos_theta, u_base * sin_theta
 
         # Contact nodes: normal force and the two-phase friction update (VFRIC analogue).
-        for c in range(contacts):
-            d = 3 * contact_nodes[c]
-            disp_new[c, 0] = u[d]
-            disp_new[c, 1] = u[d + 1]
-            disp_new[c, 2] = u[d + 2]
-            vel_z[c] = v[d + 2]
+        contact_motion(u, v, contact_nodes, disp_new, vel_z)
         f_n, f_x, f_y = contact_forces(
             disp, disp_new, vel_z, xb_new - xb, yb_new - yb, eta_y,
             penalty_share, area_share, beta, params, dt, sliding_length, states, normal,
             friction)
-        magnitude = 0.0
-        for c in range(contacts):
-            disp[c, 0] = disp_new[c, 0]
-            disp[c, 1] = disp_new[c, 1]
-            disp[c, 2] = disp_new[c, 2]
-            magnitude += math.sqrt(friction[c, 0] ** 2 + friction[c, 1] ** 2)
+        magnitude = next_contact_start(disp, disp_new, friction)
         xb, yb = xb_new, yb_new
 
         x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)

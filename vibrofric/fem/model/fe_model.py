@@ -27,7 +27,7 @@ costs 6% of the stable step (the 0.5 kg block on the "coarse" mesh: 1.046 us,
 just above the paper's 1e-6 s) and gives the quasi-static deformation at 4 kHz
 a damping ratio beta w / 2 ~ 1e-3. Starting from the static preload, that is
 enough: the summed normal force stays within 0.1-0.35% of F_N over the
-averaging window (simulate.py judges it: normal_swing.py), and 7x more damping changed F_dv by 0.02%
+averaging window (simulate.py judges it: outputs/normal_swing.py), and 7x more damping changed F_dv by 0.02%
 (transverse, k_v = 20). Stiffness-proportional damping cannot reach the
 block's rigid contact modes (rocking and bounce on the penalty springs, 10-25
 kHz for 0.5 kg) without eating the stable step: they get xi ~ 0.003.
@@ -38,8 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import meshes
-from ..core.errors import DriveTipsBlock, StepTooLong
+from ... import meshes
+from ...core.errors import DriveTipsBlock, StepTooLong
 from . import stability
 from . import model_cache
 from .assembly import Discretization

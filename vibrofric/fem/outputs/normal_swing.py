@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core.errors import NumericalError
+from ...core.errors import NumericalError
 
 STEADY_NORMAL = 0.01
 FORCED_FRACTION = 0.95

@@ -1,6 +1,6 @@
 """Linear algebra inside the numba time loops: matrix products and factorized solves.
 
-The implicit loop (implicit.py) runs unchanged on the full model (sparse, tens
+The implicit loop (integrators/implicit.py) runs unchanged on the full model (sparse, tens
 of thousands of DOFs) and on the reduced one (dense, about a hundred): the
 operators it gets decide, at compile time, which code runs.
 

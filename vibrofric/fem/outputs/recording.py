@@ -19,8 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from ..core.series import COLUMNS as SERIES_COLUMNS
-from ..core.series import RecordPlan
+from ...core.chunks import CHUNK_SECONDS, next_chunk
+from ...core.series import COLUMNS as SERIES_COLUMNS
+from ...core.series import RecordPlan
 from . import trouble
 from .steady import settled
 
@@ -128,13 +129,17 @@ def keep_step(i, f_d, recorder, steady):
     return settled(i, f_d, steady)
 
 
-# scalars[]: the state every time loop carries between chunks (an integrator may add more).
-XB, YB, SIN, COS, FN_MIN, FN_MAX, FN_MIN_ON, FN_MAX_ON = range(8)
+# scalars[]: the state every time loop carries between chunks; an integrator's own follow
+# from LOOP_SCALARS on (implicit.py's).
+LOOP_SCALARS = 8
+XB, YB, SIN, COS, FN_MIN, FN_MAX, FN_MIN_ON, FN_MAX_ON = range(LOOP_SCALARS)
 
 
 def initial_scalars(extra: int = 0) -> np.ndarray:
     """The base at rest, sin/cos of its phase, the normal-force extremes unset, ``extra`` zeros."""
-    return np.array([0.0, 0.0, 0.0, 1.0, np.inf, -np.inf, np.inf, -np.inf] + [0.0] * extra)
+    start = [0.0, 0.0, 0.0, 1.0, np.inf, -np.inf, np.inf, -np.inf]
+    assert len(start) == LOOP_SCALARS
+    return np.array(start + [0.0] * extra)
 
 
 @njit(cache=True, error_model="numpy")
@@ -167,7 +172,6 @@ def finish_step(t, t_on, f_d, f_n, f_x, f_y, x, y, x_b, y_b, friction_magnitude,
 # Ctrl-C is answered. The loops keep all their state in arrays, so where a run
 # is cut into chunks does not change its results.
 PROGRESS_STEPS = 5000
-CHUNK_SECONDS = 0.2
 
 
 def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, onset=0):
@@ -206,12 +210,7 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, 
         called = time.perf_counter()
         stop = advance(first, last)
         took = time.perf_counter() - called
-        if last + 1 == onset:
-            chunk = 1
-        elif took < CHUNK_SECONDS / 2 and last - first + 1 == chunk:
-            chunk *= 2
-        elif took > CHUNK_SECONDS and chunk > 1:
-            chunk //= 2
+        chunk = 1 if last + 1 == onset else next_chunk(chunk, took, last - first + 1)
         if stop:
             last = stop
             break

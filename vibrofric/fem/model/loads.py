@@ -13,7 +13,7 @@ with the pressure sized so that the static normal reaction of the base equals F_
 
 import numpy as np
 
-from ..core.errors import NormalLoadTooSmall
+from ...core.errors import NormalLoadTooSmall
 
 
 def top_pressure(scene, block_mass: float, top_area: float) -> float:

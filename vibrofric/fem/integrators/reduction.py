@@ -59,7 +59,7 @@ and the cutoff only, the full model's compliance on the model, the contact's
 stiffness and the frequency; a process keeps both for the last model it
 reduced (``reduced``, ``_full_compliance``), recognized by its matrices'
 content, and ``forget()`` drops them. On the Fig 12 study the set-up was
-0.75 s of each point's 2.8 s. Both are also kept on disk (model_cache.py), so
+0.75 s of each point's 2.8 s. Both are also kept on disk (model/model_cache.py), so
 that a repeat run or another process finds them built.
 """
 
@@ -73,12 +73,12 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from ..core.errors import ReductionFailed
-from ..core.law_limits import sliding_length
-from . import model_cache
+from ...core.errors import ReductionFailed
+from ...core.law_limits import sliding_length
+from ..model import model_cache
 from .generalized_alpha import LinearSystem
 from .implicit import ImplicitRun
-from .linalg import dof_points, nested_dissection, symmetric_lu
+from ..model.linalg import dof_points, nested_dissection, symmetric_lu
 
 # Harmonics of the excitation at which the compliance is compared (compared_harmonics),
 # and the loss factor.
@@ -114,7 +114,7 @@ def forget() -> None:
 
 def reduced(model, cutoff_hz: float) -> "Reduction":
     """Reduction(model, cutoff_hz), or the one this process made last for the same, or
-    the one the model cache holds (model_cache.py)."""
+    the one the model cache holds (model/model_cache.py)."""
     key = model_key(model)
     if (key, cutoff_hz) not in _last_reduction:
         forget()

@@ -38,9 +38,9 @@ import math
 
 from numba import njit
 
-from ..core.law_limits import SLIP_PER_STEP
-from ..friction_law import law_kernel
-from ..friction_law.contract import FASTMATH
+from ...core.law_limits import SLIP_PER_STEP
+from ...friction_law import law_kernel
+from ...friction_law.contract import FASTMATH
 
 # Default penalty: this many times the block's axial stiffness E A / L_z.
 #  - Stiff enough to be "hard" contact: the penalty adds 1/10 of the block's own

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .. import meshes
+from ... import meshes
 from . import dolfinx_adapter
 
 
@@ -28,7 +28,7 @@ class Discretization:
     face_area    {face tag: (nodes,) tributary area of each node on that face, m^2}
     volume       m^3
     cells        (elements, 8) each hexahedron's nodes in VTK's corner order (the
-                 ParaView frames: paraview.py)
+                 ParaView frames: outputs/paraview.py)
     """
 
     level: str

@@ -37,7 +37,7 @@ import sys
 import numpy as np
 import scipy.sparse as sp
 
-from .. import meshes
+from ... import meshes
 
 
 def _dolfinx():
@@ -195,7 +195,7 @@ VTK_HEXAHEDRON = 12
 def hexahedra(V) -> np.ndarray:
     """(cells, 8) each cell's nodes (the space's node indices, as node_coordinates
     orders them) in VTK's order of a hexahedron's corners: the cells of the
-    ParaView frames (fem/paraview.py)."""
+    ParaView frames (fem/outputs/paraview.py)."""
     dolfinx, _, _ = _dolfinx()
     import dolfinx.plot
 

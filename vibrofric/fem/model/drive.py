@@ -13,7 +13,7 @@ k_d w w^T: it stores energy k_d (v_d t - x_A)^2 / 2 and nothing else).
 With drive.mode = "velocity" (prescribed sliding, as the lumped model's
 prescribed mode and the closed-form literature) there is no spring: x_A = v_d t
 exactly (after a start, prescribed_position), and F_d is the constraint's
-force, spread by the same weights (each integrator solves for it: explicit.py,
+force, spread by the same weights (each integrator solves for it: integrators/explicit.py,
 contact_solve.contact_residual).
 
 Where it attaches (scene drive.attach, docs/model.md section 5):
@@ -32,7 +32,8 @@ front-face
 import numpy as np
 from numba import njit
 
-from .. import meshes
+from ... import meshes
+from ...friction_law.contract import FASTMATH
 
 ATTACH_FACES = {"contact-plane": meshes.CONTACT, "front-face": meshes.FRONT}
 
@@ -72,6 +73,17 @@ def attachment_position(u, reference, nodes, weights):
         d = 3 * nodes[k]
         x += weights[k] * (u[d] - reference[d])
         y += weights[k] * (u[d + 1] - reference[d + 1])
+    return x, y
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def attachment_xy(q, index, weights_x, weights_y):
+    """(x_A, y_A) = (d_x^T q, d_y^T q) in a system's coordinates (generalized_alpha.LinearSystem:
+    the drive's entries of q and their weights in X and Y)."""
+    x = y = 0.0
+    for k in range(index.shape[0]):
+        x += weights_x[k] * q[index[k]]
+        y += weights_y[k] * q[index[k]]
     return x, y
 
 

@@ -28,10 +28,10 @@ from time import perf_counter
 
 import numpy as np
 
-from ..core.shooting import (Orbit, cycle_steps, instability, largest_multipliers,
+from ...core.shooting import (Orbit, cycle_steps, instability, largest_multipliers,
                              newton_picard)
 from .cycle_map import FECycleMap
-from .recording import XB, YB, State
+from ..outputs.recording import XB, YB, State
 
 TOLERANCE = 1e-6         # converged: the RMS of the scaled residual (each entry divided by its
                          # natural size, cycle_map.FECycleMap._scales: displacements by 10 F_c /

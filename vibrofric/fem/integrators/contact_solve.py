@@ -1,7 +1,11 @@
 """The contact inside an implicit step: every contact node's forces at trial
 displacements, and the iteration that makes them consistent with the step
 (the fixed point in the contact space, Newton on the critical nodes;
-implicit.py explains why it converges).
+docs/fe-model.md, "The implicit integrators", explains why it converges).
+
+This is the part of an implicit step that calls the friction law, compiled
+for each law (friction_law/specialize.py); the rest of the step is compiled
+once for all laws (generalized_alpha.py, energy.py, implicit.py).
 
 Each node's contact over the step is the VFRIC analogue (contact.node_contact,
 the same per-node update as explicit.py) on implicit_substeps(scene)
@@ -15,12 +19,12 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..core.law_limits import slip_resolving_step
-from ..friction_law import law_kernel
-from ..friction_law.contract import FASTMATH
-from .contact import node_contact
-from .drive import prescribed_position
-from .linalg import apply
+from ...core.law_limits import slip_resolving_step
+from ...friction_law import law_kernel
+from ...friction_law.contract import FASTMATH
+from ..model.contact import node_contact
+from ..model.drive import attachment_xy, prescribed_position
+from ..model.linalg import apply
 
 # Convergence of the contact iteration: the change of every contact
 # displacement below this fraction of F_N / k_t (~7e-13 m on the paper's
@@ -60,6 +64,9 @@ MAX_CONTRACTION = 0.5
 # above the converged F_dv at 13 s_c a step, 3.8% at 6.3 s_c and 0.8% at 3.2 s_c.
 # (Under prescribed sliding, without the rocking, 6.3 s_c was within 2e-4.)
 TRUSTED_SLIP_PER_STEP = 2.0
+# What iterate_contact returns: converged; stalled on a contact kink and taken at its best
+# iterate (within STALL_FACTOR of the tolerance); not converged.
+CONVERGED, STALLED, NOT_CONVERGED = range(3)
 
 
 class ContactData(NamedTuple):
@@ -327,3 +334,119 @@ def contact_residual(qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact,
         residual = max(residual, abs(rho[p]))
         hg += h[p] * g[p]
     return f_d, f_hold, f_n, f_x, f_y, residual, y_a + af1 * (hg + e * f_d)
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def base_over_substeps(t, dt, u_base, amplitude, omega, t_on, cos_theta, sin_theta, eta_y,
+                       base_dx, base_free):
+    """The base over the step's friction sub-steps (eq 23), along its exact sinusoid and
+    ending at u_base: each sub-step's X increment (base_dx) and the free end's,
+    eta_y dy_b (base_free, eq 30), over the first len(base_dx) entries."""
+    m = base_dx.shape[0]
+    u_prev = amplitude * math.sin(omega * (t - dt - t_on)) if t - dt >= t_on else 0.0
+    for j in range(m):
+        t_j = t - dt + (j + 1) * dt / m
+        u_j = u_base if j == m - 1 else (
+            amplitude * math.sin(omega * (t_j - t_on)) if t_j >= t_on else 0.0)
+        base_dx[j] = (u_j - u_prev) * cos_theta
+        base_free[j] = eta_y * (u_j - u_prev) * sin_theta  # phase 2: eta_y dy_b (eq 30)
+        u_prev = u_j
+
+
+# Inlined into implicit_steps by numba (both are compiled for each law, so this costs no
+# compile time): as a function of its own, the loop it ran in rounded differently when
+# loaded from numba's cache than when compiled in the same process (by ~1e-11 of
+# F_d), and neither as the loop written in one piece before.
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, states, g_prev,
+                    work):
+    """The contact-space fixed point of one step, from the last step's g (g_prev).
+
+    Starts from q_c = y_c + (1 - af) (G g_prev + h F_d,prev), x_A likewise; iterates
+    contact_residual with a Newton step on the critical nodes (newton_correction)
+    for up to scheme.max_iterations, then the plain fixed point for
+    FALLBACK_ITERATIONS more, until no contact displacement nor x_A changes by
+    more than scheme.tolerance. Returns (CONVERGED, STALLED or NOT_CONVERGED,
+    iterations, F_d, F_hold, sum N, sum F_x, sum F_y); work holds g, the target
+    q_c and the trial states and forces of the last evaluation.
+    """
+    G, h, e = operators.G, operators.h, operators.e
+    contact_dofs = operators.contact_dofs
+    y, qc, yc, target, delta, rho, qc_best = (work.y, work.qc, work.yc, work.target, work.delta,
+                                              work.rho, work.qc_best)
+    nc = qc.shape[0]
+    af1 = 1.0 - scheme.alpha_f
+    tolerance = scheme.tolerance
+    y_a, y_a_y = attachment_xy(y, operators.drive_index, operators.drive_x, operators.drive_y)
+    drive_now = (y_a_y, operators.h_y, operators.e_xy, operators.e_yy)
+    apply(G, g_prev[:nc], target)
+    for p in range(nc):
+        yc[p] = y[contact_dofs[p // 3, p % 3]]
+        qc[p] = yc[p] + af1 * (target[p] + h[p] * g_prev[nc])
+    hg = 0.0
+    for p in range(nc):
+        hg += h[p] * g_prev[p]
+    x_a = x_a_best = y_a + af1 * (hg + e * g_prev[nc])
+    converged = False
+    iterations = 0
+    residual_old = best = np.inf
+    factor = 1.0
+    f_d = f_hold = f_n = f_x = f_y = 0.0
+    while iterations < scheme.max_iterations + FALLBACK_ITERATIONS:
+        iterations += 1
+        newton = iterations <= scheme.max_iterations
+        f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = contact_residual(
+            qc, x_a, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
+            drive_now, scheme, states, work)
+        if residual < best:
+            best = residual
+            qc_best[:] = qc
+            x_a_best = x_a
+        if newton and residual >= residual_old and factor > MIN_STEP:
+            # No progress (a Newton step across a contact kink): halve it.
+            factor *= 0.5
+            for p in range(nc):
+                qc[p] -= factor * delta[p]
+            continue
+        if newton:
+            newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, scheme,
+                              mu_max, states, work)
+        else:
+            for p in range(nc):
+                delta[p] = -rho[p]
+        change = abs(x_a_new - x_a)
+        for p in range(nc):
+            change = max(change, abs(delta[p]))
+            qc[p] += delta[p]
+        x_a = x_a_new
+        residual_old = residual
+        factor = 1.0
+        if change <= tolerance:
+            converged = True
+            break
+    if converged:
+        return CONVERGED, iterations, f_d, f_hold, f_n, f_x, f_y
+    if best > tolerance * STALL_FACTOR:
+        return NOT_CONVERGED, iterations, f_d, f_hold, f_n, f_x, f_y
+    # Stalled on a node's contact kink, within the looser tolerance: take the best iterate.
+    qc[:] = qc_best
+    f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = contact_residual(
+        qc, x_a_best, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
+        drive_now, scheme, states, work)
+    return STALLED, iterations, f_d, f_hold, f_n, f_x, f_y
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def commit_contact(states, normal, friction, work):
+    """The converged evaluation's trial law states and forces become the nodes' state;
+    returns sum |F_i|, the friction forces' summed magnitude."""
+    trial_state, normal_t, force_t = work.trial_state, work.normal_t, work.force_t
+    for c in range(states.shape[0]):
+        states[c, :] = trial_state[c]
+        normal[c] = normal_t[c]
+        friction[c, 0] = force_t[c, 0]
+        friction[c, 1] = force_t[c, 1]
+    magnitude = 0.0
+    for c in range(states.shape[0]):
+        magnitude += math.sqrt(friction[c, 0] ** 2 + friction[c, 1] ** 2)
+    return magnitude

@@ -2,7 +2,7 @@
 
 A run's set-up meshes the block (gmsh), assembles K, the lumped M and the
 face areas (DOLFINx) and, for the reduced integrator, builds the Craig-Bampton
-basis (reduction.py). A repeat run, or every point of a sweep on one block,
+basis (integrators/reduction.py). A repeat run, or every point of a sweep on one block,
 would build the same again. This module keeps them in
 ``disk_cache.cache_root()/models``:
 
@@ -23,7 +23,7 @@ of its sources (friction_law.contract.package_hash), so an edited package
 builds afresh. Entries are checked and written atomically (disk_cache.py):
 a damaged one is rebuilt, never used; processes building the same entry at
 once build it once. The block's entry holds its cells too, from which the
-ParaView frames are written (paraview.py): a run from the cache never loads
+ParaView frames are written (outputs/paraview.py): a run from the cache never loads
 DOLFINx, gmsh or MPI.
 
 The values are the computed arrays stored bit for bit (.npz of float64): a
@@ -41,8 +41,8 @@ import os
 import numpy as np
 import scipy.sparse as sp
 
-from .. import __version__, disk_cache
-from ..friction_law.contract import package_hash
+from ... import __version__, disk_cache
+from ...friction_law.contract import package_hash
 from . import dolfinx_adapter
 from .assembly import Discretization, assemble_block
 

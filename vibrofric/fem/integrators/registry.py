@@ -15,13 +15,13 @@ integrator its preparation and its compiled step):
         its time per step in ns, roughly (step_cost.COST; for "auto")
     run.integrate(plan, frame=None, every=0, progress=None) -> recording.Integration
         run ``plan.steps`` steps of ``scene.time.dt`` from the static preload
-        (fewer once settled, steady.py), keep the rows ``plan``
+        (fewer once settled, outputs/steady.py), keep the rows ``plan``
         (core.series.RecordPlan) asks for (columns recording.columns),
         call ``frame(state)`` at t = 0, every ``every`` steps and at the end
         when given, ``progress(step, steps)`` now and then (recording.run_in_chunks),
         and raise core.errors.NumericalError on numerical trouble
 
-The integrators, all driving the same per-node friction law (contact.py):
+The integrators, all driving the same per-node friction law (model/contact.py):
 
     explicit   central differences, lumped mass (explicit.py): the Abaqus/Explicit
                analogue; dt below the mesh's stable step (~1e-6 s)
@@ -32,8 +32,8 @@ The integrators, all driving the same per-node friction law (contact.py):
     auto       the cheapest of those that meets fem.accuracy (choose() below)
 """
 
-from ..core.errors import Refusal, StepTooLong
-from ..core.law_limits import slip_per_step
+from ...core.errors import Refusal, StepTooLong
+from ...core.law_limits import slip_per_step
 from . import step_cost
 from .contact_solve import TRUSTED_SLIP_PER_STEP
 from .explicit import ExplicitRun

@@ -27,10 +27,10 @@ import math
 
 import numpy as np
 
-from ..core.base_motion import vibration_axis
-from ..core.series import RecordPlan
-from .recording import COS, SIN, XB, YB, Recorder, columns, initial_scalars
-from .steady import SteadyState
+from ...core.base_motion import vibration_axis
+from ...core.series import RecordPlan
+from ..outputs.recording import COS, SIN, XB, YB, Recorder, columns, initial_scalars
+from ..outputs.steady import SteadyState
 from .time_loop import ContactState
 
 # The displacements' scale in F_c / k_pen. With it the cycle map's Jacobian is of order
@@ -51,7 +51,7 @@ def first_cycle_step(scene, steps: int) -> int:
 
 
 class FECycleMap:
-    """Phi: one base cycle of the prepared integrator ``run`` (integrators.py) on
+    """Phi: one base cycle of the prepared integrator ``run`` (registry.py) on
     ``model``, for the scene it was prepared with (whose time.dt puts a whole number
     ``steps`` of steps in a cycle: periodic.py sees to it)."""
 

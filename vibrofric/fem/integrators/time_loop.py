@@ -11,10 +11,10 @@ range of steps; the TimeLoop owns the rest, the same for all of them:
     the chunks           between ParaView frames and progress reports
                          (recording.run_in_chunks)
     the failures         a trouble code from the compiled step becomes a
-                         NumericalError with the integrator's hint (trouble.py)
+                         NumericalError with the integrator's hint (outputs/trouble.py)
     the statistics       the loop's, the integrator's own, the early stop's
 
-    run.name, run.info, run.choice, run.cost_per_step  (integrators.py)
+    run.name, run.info, run.choice, run.cost_per_step  (registry.py)
     run.integrate(plan, frame=None, every=0, progress=None) -> recording.Integration
 """
 
@@ -23,11 +23,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import trouble
-from .linalg import one_blas_thread
-from .recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
+from ..outputs import trouble
+from ..model.linalg import one_blas_thread
+from ..outputs.recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
                         loop_stats, run_in_chunks)
-from .steady import SteadyState
+from ..outputs.steady import SteadyState
 
 
 @dataclass
@@ -90,7 +90,7 @@ class TimeLoop:
 
     def integrate(self, plan, frame=None, every=0, progress=None) -> Integration:
         """Run ``plan.steps`` steps of time.dt from the static preload (fewer once
-        settled, steady.py), keep the rows ``plan`` (core.series.RecordPlan) asks
+        settled, outputs/steady.py), keep the rows ``plan`` (core.series.RecordPlan) asks
         for, call ``frame(state)`` at t = 0, every ``every`` steps and at the end
         and ``progress(step, steps)`` now and then (recording.run_in_chunks);
         raise core.errors.NumericalError on numerical trouble."""
