@@ -497,6 +497,23 @@ def test_the_run_time_estimate_counts_friction_sub_steps(load_scene):
     assert budget.estimate(stiff, fe=True)["seconds"] > 1000 * budget.estimate(gentle, fe=True)["seconds"]
 
 
+@pytest.mark.parametrize("change", [{"drive.v_d": 1e-9}, {"contact.F_N": 1e9}])
+def test_a_body_that_never_broke_away_is_said_so(load_scene, change):
+    """At the ends of the accepted ranges the drive spring may never load the body to
+    F_c within time.T (1e-9 m/s, 1e9 N: F_dv/F_d0 ~ 2e-5 and 1.4e-7); the summary says
+    it has not settled and has no breakaway time, and the warning says why."""
+    from vibrofric.analytic.solve import solve
+    from vibrofric.analytic.summary import unsettled_warning
+
+    scene = load_scene("longitudinal", time__T=0.3).with_values(change)
+    _, summary = solve(scene, "coupled")
+    assert summary["settled"] is False and summary["breakaway_time_s"] is None
+    assert "no breakaway" in unsettled_warning(summary)
+    _, shipped = solve(load_scene("longitudinal", time__T=0.3), "coupled")
+    assert shipped["breakaway_time_s"] > 0.0 and "no breakaway" not in (
+        unsettled_warning(shipped) or "")
+
+
 def test_a_run_estimated_beyond_an_hour_is_announced_before_it_starts(load_scene, tmp_path):
     """vibration.k_v = 1e6 and T = 10 s: ~22 days by the estimate (every contact node's
     friction sub-steps), under the 30 days refused. It started without a word, its

@@ -273,7 +273,9 @@ def cmd_run(args) -> None:
     _warn_unsettled(fe, "FE")
     _warn_unsettled(analytic, "analytic")
     settled = (f", settled at {fe['stop_time_s']:g} s, {fe['saving']:.0%} of the steps saved"
-               if fe["stopped_early"] else "") + _periodic_note(fe, "FE ")
+               if fe["stopped_early"] else "")
+    periodic = _periodic_note(fe, "FE ")
+    settled += f"; {periodic.strip()[1:-1]}" if periodic else ""
     _emit(args, document,
           f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['integrator']}, {fe['dofs']} DOFs, "
           f"{fe['wall_time_s']:.1f} s{settled}), analytic {_number(analytic['F_dv_over_F_d0'])}; "

@@ -87,8 +87,12 @@ def unsettled_warning(summary: dict, label: str = "") -> str | None:
         moved = "the run holds fewer than two averaging windows after the vibration starts"
     else:
         moved = f"its mean moved by {drift:.2%} between the last two averaging windows"
+    why = ""
+    if "breakaway_time_s" in summary and summary["breakaway_time_s"] is None:
+        # a drive spring still loading a body held by friction (a huge F_N, a tiny v_d)
+        why = " (the drive force never reached F_c = mu F_N: no breakaway)"
     return (f"warning: the {what}cycle-averaged drive force has not settled: {moved} "
-            f"(time.settle_tolerance {summary['settle_tolerance']:g}); lengthen time.T")
+            f"(time.settle_tolerance {summary['settle_tolerance']:g}); lengthen time.T{why}")
 
 
 def summarize_orbit(orbit, scene) -> dict:
