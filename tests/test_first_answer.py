@@ -320,3 +320,41 @@ def test_the_warm_up_keeps_the_compilers_chatter_off_the_terminal():
     assert done.returncode == 0, done.stderr
     assert "a warning kept" in done.stderr
     assert "libffcx" not in done.stderr and "INFO" not in done.stderr
+
+
+LAW_FREE_PARTS = ("free_response", "newmark_update", "new_displacements", "base_over_substeps",
+                  "commit_contact", "step_forces", "held_attachment", "contact_motion",
+                  "next_contact_start")
+
+
+@pytest.mark.slow
+def test_a_new_law_compiles_its_loops_not_their_law_free_parts(tmp_path):
+    """The FE steps' parts that do not call the friction law (generalized_alpha,
+    implicit.new_displacements, explicit.step_forces ...) are compiled once for all
+    laws: a second law's runs add loops to numba's cache, and nothing of theirs."""
+    law = _new_law(tmp_path, 9)
+    cache = tmp_path / "numba"
+    code = ("import sys; from vibrofric import scene as s; from vibrofric.fem import run_fe; "
+            "base = s.load('scenes/longitudinal.toml', ['vibration.t_on=0.0005', 'time.T=0.0025', "
+            "'time.average_cycles=2', 'fem.output_every=0', 'fem.mesh=tiny']); "
+            "base = base if sys.argv[1] == 'dahl' else base.with_law(sys.argv[1]); "
+            "[run_fe(base.with_values({'fem.integrator': i, 'time.dt': dt})) "
+            "for i, dt in (('explicit', 1e-6), ('reduced', 1e-5))]")
+
+    def compiled(name_part):
+        """numba's cache files of the functions named so: each compiled version's .nbc,
+        and the index (.nbi) with the time it was last written."""
+        return sorted((p.name, p.stat().st_mtime_ns if p.suffix == ".nbi" else 0)
+                      for p in cache.rglob(f"*{name_part}*") if p.suffix in (".nbi", ".nbc"))
+
+    for which in ("dahl", law):
+        done = subprocess.run([sys.executable, "-c", code, which], cwd=ROOT, timeout=1200,
+                              env=child_environment(NUMBA_CACHE_DIR=str(cache)),
+                              capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr[-2000:]
+        if which == "dahl":
+            parts = {name: compiled(f".{name}-") for name in LAW_FREE_PARTS}
+            loops = compiled("_steps__")
+            assert all(parts.values()), parts
+    assert {name: compiled(f".{name}-") for name in LAW_FREE_PARTS} == parts
+    assert len(compiled("_steps__")) > len(loops)   # the new law's own loops
