@@ -7,6 +7,8 @@ import sys
 import types
 from pathlib import Path
 
+import pytest
+
 from vibrofric.friction_law import load_law, specialize
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -61,3 +63,33 @@ def test_only_the_most_recent_compiled_versions_stay_on_disk(tmp_path):
     kept = {path.name[len(prefix):][:16] for path in tmp_path.glob(prefix + "*")}
     assert kept == {f"{k:016x}" for k in range(specialize.KEPT_VERSIONS)}
     assert other.exists()
+
+
+def test_a_signal_while_numba_compiles_ends_the_wait_at_once():
+    """numba compiles in LLVM's C code, which calls back into Python through ctypes;
+    a KeyboardInterrupt raised in such a callback is swallowed (printed as ignored),
+    so Ctrl-C or SIGTERM during a new law's compile was lost. The stand-in below
+    compiles by such a callback, which signals the process and runs on for 3 s:
+    waited for from another thread, the compile is cut short at once."""
+    import ctypes
+    import signal
+    import time
+
+    from vibrofric import parallel
+
+    class CompilingThroughCallback:
+        __name__ = "stand_in"
+
+        def compile(self, sig):
+            def from_compiled_code():
+                os.kill(os.getpid(), signal.SIGTERM)
+                time.sleep(3.0)
+
+            ctypes.CFUNCTYPE(None)(from_compiled_code)()
+
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt), parallel.interruptible():
+        specialize._compile_interruptibly(CompilingThroughCallback(), ())
+    # The wait polls every 0.05 s; 1 s leaves room for a loaded machine and is still
+    # well short of the 3 s the swallowed interrupt took before.
+    assert time.monotonic() - start < 1.0

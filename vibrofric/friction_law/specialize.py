@@ -33,6 +33,7 @@ loop compiled anew.
 """
 
 import sys
+import threading
 import types
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
@@ -195,7 +196,8 @@ def ready(dispatcher, args, what: str) -> None:
         announce(f"compiling {what}, first run only")
     with _compile_lock(dispatcher):
         try:
-            dispatcher.compile(sig)    # numba loads it from its cache if another process wrote it
+            _compile_interruptibly(dispatcher, sig)  # numba loads it from its cache if
+                                                     # another process wrote it
         except Exception:
             # A damaged or foreign cache entry: drop this function's index and compile
             # afresh; an error of the code itself comes again and is raised.
@@ -203,7 +205,39 @@ def ready(dispatcher, args, what: str) -> None:
                 dispatcher._cache.flush()
             except Exception:
                 pass
+            _compile_interruptibly(dispatcher, sig)
+
+
+def _compile_interruptibly(dispatcher, sig) -> None:
+    """``dispatcher.compile(sig)`` in a helper thread while this one waits for it.
+
+    numba compiles largely in LLVM's C code, calling back into Python through
+    llvmlite's ctypes callbacks, which swallow an exception raised in them: a
+    KeyboardInterrupt that Ctrl-C or SIGTERM raised there (parallel.interruptible)
+    was lost, and a new law's loops compiled on for tens of seconds, after which
+    the run went on. Signal handlers run in the main thread only, so while it
+    waits here the signal's KeyboardInterrupt is raised here at once and the run
+    ends through its clean-ups; the compile is abandoned (a daemon thread, gone
+    with the process).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        dispatcher.compile(sig)
+        return
+    failure = []
+
+    def compile_it():
+        try:
             dispatcher.compile(sig)
+        except BaseException as err:  # handed to the waiting thread
+            failure.append(err)
+
+    worker = threading.Thread(target=compile_it, name=f"compile {dispatcher.__name__}",
+                              daemon=True)
+    worker.start()
+    while worker.is_alive():
+        worker.join(0.05)
+    if failure:
+        raise failure[0]
 
 
 def _prune(dispatcher, prefix: str) -> None:
