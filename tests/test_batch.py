@@ -228,15 +228,40 @@ def test_partial_point_directories_are_ignored_and_cleared(tmp_path):
     assert len(results(out)) == 2
 
 
-def test_a_changed_base_scene_reruns_every_point(tmp_path):
+def test_another_scene_is_refused_on_a_sweeps_out_and_replaces_it_with_force(tmp_path, capsys):
+    """A sweep of another base scene (here --set contact.mu) on a sweep's --out would
+    rewrite the results.csv and scene.toml of the one there: refused in one line, exit 2,
+    nothing touched; with --force it replaces it, every point run again."""
     out = tmp_path / "sweep"
     assert main(analytic_sweep(out)) == 0
     first = results(out)
     before = summary_times(out)
-    assert main(analytic_sweep(out, "--set", "contact.mu=0.12")) == 0
+    scene_toml = (out / "scene.toml").read_bytes()
+    capsys.readouterr()
+    assert main(analytic_sweep(out, "--set", "contact.mu=0.12")) == EXIT_BAD_INPUT
+    error = capsys.readouterr().err.strip().splitlines()
+    assert len(error) == 1 and "another scene" in error[0] and "contact.mu" in error[0]
+    assert results(out) == first and summary_times(out) == before
+    assert (out / "scene.toml").read_bytes() == scene_toml
+    assert main(analytic_sweep(out, "--set", "contact.mu=0.12", "--force")) == 0
     assert all(summary_times(out)[name] != mtime for name, mtime in before.items())
     assert [float(r["F_d0"]) for r in first] == [5.5, 5.5]
     assert [float(r["F_d0"]) for r in results(out)] == pytest.approx([6.6, 6.6])
+
+
+def test_the_same_scene_with_a_grown_grid_resumes(tmp_path, capsys):
+    """The same scene and --set with more grid values: the sweep there is resumed, its
+    points reused."""
+    out = tmp_path / "sweep"
+    assert main(analytic_sweep(out)) == 0
+    before = summary_times(out)
+    capsys.readouterr()
+    grown = ["sweep", SCENE, "--set", "time.T=0.2", "--grid", "vibration.k_v=2,6,20",
+             "--out", str(out)]
+    assert main(grown) == 0
+    assert "(2 reused" in capsys.readouterr().err
+    assert {name: summary_times(out)[name] for name in before} == before
+    assert len(results(out)) == 3
 
 
 @pytest.mark.parametrize("mistake", [["--set", "time.dt=0"], ["--grid", "bogus.key=1,2"],

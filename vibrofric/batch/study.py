@@ -20,6 +20,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from .. import budget, output, plots
+from .. import scene as scene_module
 from ..grid import point_name
 from ..parallel import default_workers, interruptible, run_on_pool
 from ..analytic.continuation import chunks
@@ -136,6 +137,33 @@ def _prepare(scene, ledger: Ledger, out: Path) -> list:
     return [i for i, point in enumerate(ledger.points) if not ledger.is_done(point)]
 
 
+def _check_same_scene(scene, out: Path) -> None:
+    """Resume ``out`` only for the sweep it holds: the same scene and ``--set`` (the
+    grid may differ: its common points are reused). Run there, another scene's
+    sweep would rewrite the results.csv, scene.toml and figures of the one there;
+    it is refused (OutputError) before any work, and ``--force`` replaces it.
+    """
+    written = out / "scene.toml"
+    if not written.is_file():
+        return  # a sweep killed before it wrote its scene: nothing of it to keep apart
+    new = scene_module.to_dict(scene)
+    try:
+        earlier = scene_module.to_dict(scene_module.load(written))
+    except (scene_module.SceneError, OSError):
+        earlier = None
+    if earlier == new:
+        return
+    differing = [f"{section}.{key}" for section in new
+                 for key in sorted(set(new[section]) | set((earlier or {}).get(section, {})))
+                 if earlier is not None and new[section].get(key) != earlier[section].get(key)]
+    what = (f"its scene.toml differs in {', '.join(differing[:3])}"
+            f"{' and more' if len(differing) > 3 else ''}" if differing
+            else "its scene.toml cannot be read as a scene")
+    raise output.OutputError(
+        f"--out {out}: holds a sweep of another scene ({what}); resume it with the same "
+        "scene and --set, name another --out, or add --force to replace it")
+
+
 def _figures(ledger: Ledger, keys: list, scene, out: Path) -> None:
     """The study's figures from its done points: F_dv/F_d0 against k_v (Fig 6/9)
     or against theta per k_v (Fig 12), FE markers over the analytic curves; and
@@ -217,6 +245,8 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
                  series=mode == "fe")  # an analytic point keeps its summary alone (points.py)
     if fresh and leader and out.exists():
         output.remove(out)
+    elif out.exists():
+        _check_same_scene(scene, out)
     todo = _prepare(scene, ledger, out) if leader else None
     if comm is not None:
         todo = comm.bcast(todo, root=0)  # rank 0's reading of the directories, for all
