@@ -16,11 +16,11 @@ from matplotlib.figure import Figure
 
 from .core.series import PLOT_CYCLES
 
-LIMIT_POINTS = 80  # on the rigid Coulomb limit's curve; each is a 16 ms quadrature
+LIMIT_POINTS = 80  # on the rigid Coulomb limit's curve; each point is a quadrature
 # Every analytic run draws the two figures of a run, which would otherwise take
 # longer than its stepping: fixed margins instead of tight_layout (a second text
-# layout pass, ~50 ms a figure; these fit tick labels of up to five digits), and
-# PNG compressed at zlib level 1 (~20 ms less a figure, the file ~20% larger).
+# layout pass; these fit tick labels of up to five digits), and PNG compressed at
+# zlib level 1 (the file ~20% larger; docs/performance.md, "Design choices measured").
 # The figure is made at the PNG's resolution, so that saving it lays out no text anew.
 RUN_MARGINS = {"left": 0.12, "right": 0.98, "bottom": 0.14, "top": 0.91}
 RUN_DPI = 120

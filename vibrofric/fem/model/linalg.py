@@ -202,11 +202,9 @@ def one_blas_thread():
     """A context in which BLAS runs on the calling thread only (threadpoolctl).
 
     The dense products are BLAS gemv calls of ~100 x 100 on the paper's
-    meshes: 1.2 us against 3.7 us for the compiled row loop they replace
-    (98 x 98, this machine). OpenBLAS splits a gemv of more than 9,216
-    entries over its threads, and for a product of a microsecond the hand-off
-    costs more than the work: the reduced Fig 7 loop took 3.3 s threaded
-    against 1.07 s on one thread (2 cores, another job on the second). A
+    meshes. OpenBLAS splits a gemv of more than 9,216 entries over its
+    threads, and for a product of a microsecond the hand-off costs more than
+    the work (measured: docs/performance.md, "Design choices measured"). A
     single run's set-up keeps its threads; a sweep's FE points run on one
     thread throughout, as the sweep already keeps every core busy
     (batch/points.py).
@@ -273,8 +271,8 @@ def _bsr_apply(indptr, columns, data, x, out):
     in flight on each. LLVM does not find this shape by itself: with reordering
     of sums allowed it vectorized across blocks with gathered loads, which
     Intel's Gather Data Sampling mitigation makes several times slower, and
-    without it the scalar loop did 9 multiply-adds a block one by one (8.0
-    against 5.3 us a product on the coarse mesh, Intel Xeon).
+    without it the scalar loop did 9 multiply-adds a block one by one
+    (measured: docs/performance.md, "Design choices measured").
     """
     for node in range(indptr.shape[0] - 1):
         s0, s1, s2 = simd.zeros(), simd.zeros(), simd.zeros()
