@@ -308,10 +308,10 @@ def test_the_bar_restarts_its_clock_when_the_loop_starts():
 
 
 def test_the_warm_up_keeps_the_compilers_chatter_off_the_terminal():
-    """python -m vibrofric.warm's logging (warm.quiet_libraries, first thing): a library
-    that logs at INFO (FFCx's basicConfig, then setuptools lowering the root logger to
-    INFO and logging each C compiler command line, on a first FE model build) is not
-    shown; a warning is."""
+    """python -m vibrofric.warm's logging (library_logs.quiet_libraries, first thing, as
+    in every vibrofric command): a library that logs at INFO (FFCx's basicConfig, then
+    setuptools lowering the root logger to INFO and logging each C compiler command
+    line, on a first FE model build) is not shown; a warning is."""
     code = ("import logging; from vibrofric.warm import quiet_libraries; quiet_libraries(); "
             "logging.basicConfig(); logging.getLogger().setLevel(logging.INFO); "
             "logging.info('building libffcx_forms'); logging.warning('a warning kept')")

@@ -25,7 +25,6 @@ import errno  # noqa: E402
 import faulthandler  # noqa: E402
 import gc  # noqa: E402
 import json  # noqa: E402
-import logging  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 # Imported here: only what every command needs, and light (no numpy). The scene
@@ -34,6 +33,7 @@ from pathlib import Path  # noqa: E402
 from . import __version__, output  # noqa: E402
 from .core.errors import NumericalError, Refusal  # noqa: E402
 from .output import OutputError  # noqa: E402
+from .library_logs import quiet_libraries  # noqa: E402
 from .parallel import interruptible  # noqa: E402
 
 EXIT_FAILED = 1          # something failed that is not the input's fault (a full disk, a bug)
@@ -364,16 +364,6 @@ def _interrupted(command: str, signal_name: str) -> str:
     return f"vibrofric: {command} interrupted {how}; nothing was written"
 
 
-def _quiet_libraries() -> None:
-    """Show warnings and errors of the libraries, not their INFO chatter (the C
-    compiler's command lines when FFCx compiles a form on a first run)."""
-    root = logging.getLogger()
-    if not root.handlers:
-        root.addHandler(logging.StreamHandler())
-    for handler in root.handlers:
-        handler.setLevel(logging.WARNING)
-
-
 def _explained(err: Exception):
     """(message, exit code) for an error the user can act on; None for any other
     (a bug: its traceback is shown). The scene module is imported here, once
@@ -437,7 +427,7 @@ def traceback_origin(err: BaseException) -> str:
 
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
-    _quiet_libraries()
+    quiet_libraries()
     if not faulthandler.is_enabled():  # a crash in compiled code (numba, PETSc) shows its stack
         faulthandler.enable()
     output.committed.clear()

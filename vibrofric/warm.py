@@ -15,11 +15,11 @@ and logging every C compiler command line) is kept off the terminal, as in
 every ``vibrofric`` command (cli.py).
 """
 
-import logging
 import sys
 
 from .friction_law.contract import BUILT_IN
 from .friction_law.specialize import unannounced
+from .library_logs import quiet_libraries
 
 # The paper's Fig 7 scene (scenes/longitudinal.toml), a few cycles long.
 SCENE = {
@@ -55,15 +55,6 @@ def warm(fe: bool = True) -> None:
 
                 for integrator, dt in INTEGRATORS.items():
                     run_fe(scene.with_values({"fem.integrator": integrator, "time.dt": dt}))
-
-
-def quiet_libraries() -> None:
-    """The libraries' warnings and errors on stderr, not their INFO lines (a handler
-    of its own at WARNING: FFCx's basicConfig then adds none, and the root
-    logger's level, which setuptools lowers, passes nothing more to it)."""
-    handler = logging.StreamHandler()
-    handler.setLevel(logging.WARNING)
-    logging.getLogger().addHandler(handler)
 
 
 if __name__ == "__main__":
