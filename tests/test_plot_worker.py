@@ -130,14 +130,19 @@ def test_the_plot_process_ends_quietly_when_no_rows_come(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def packages_loaded_by(code: str, directory) -> set:
+    """The top-level packages a fresh interpreter has loaded after running ``code``."""
+    child = subprocess.run(
+        [sys.executable, "-c", f"import sys; {code}; print(' '.join(sys.modules))"],
+        capture_output=True, text=True, cwd=directory, env=child_environment(), timeout=120)
+    assert child.returncode == 0, child.stderr
+    return {name.split(".")[0] for name in child.stdout.split()}
+
+
 def test_the_plot_process_imports_matplotlib_not_numba(tmp_path):
     """What makes it ready before the stepping ends: it imports no numba, nor the FE stack."""
-    child = subprocess.run(
-        [sys.executable, "-c", "import sys; from vibrofric import plot_worker, plots; "
-                               "plot_worker.warm_up(plots); print(' '.join(sys.modules))"],
-        capture_output=True, text=True, cwd=tmp_path, env=child_environment(), timeout=120)
-    assert child.returncode == 0, child.stderr
-    loaded = {name.split(".")[0] for name in child.stdout.split()}
+    loaded = packages_loaded_by("from vibrofric import plot_worker, plots; "
+                                "plot_worker.warm_up(plots)", tmp_path)
     assert "matplotlib" in loaded
     assert loaded.isdisjoint({"numba", "llvmlite", "scipy", "dolfinx", "mpi4py", "gmsh"})
 
@@ -170,11 +175,6 @@ def test_the_picture_process_imports_pyvista_not_the_fe_stack(tmp_path):
     """The "picture" kind gets ready (pyvista, its renderer) in a process without DOLFINx,
     in which VTK's renderer would abort."""
     pytest.importorskip("pyvista")
-    child = subprocess.run(
-        [sys.executable, "-c", "import sys; from vibrofric import picture; picture.warm_up(); "
-                               "print(' '.join(sys.modules))"],
-        capture_output=True, text=True, cwd=tmp_path, env=child_environment(), timeout=120)
-    assert child.returncode == 0, child.stderr
-    loaded = {name.split(".")[0] for name in child.stdout.split()}
+    loaded = packages_loaded_by("from vibrofric import picture; picture.warm_up()", tmp_path)
     assert "pyvista" in loaded
     assert loaded.isdisjoint({"numba", "dolfinx", "mpi4py", "petsc4py", "gmsh"})
