@@ -153,12 +153,14 @@ def _check_same_scene(scene, out: Path) -> None:
         earlier = None
     if earlier == new:
         return
-    differing = [f"{section}.{key}" for section in new
-                 for key in sorted(set(new[section]) | set((earlier or {}).get(section, {})))
-                 if earlier is not None and new[section].get(key) != earlier[section].get(key)]
-    what = (f"its scene.toml differs in {', '.join(differing[:3])}"
-            f"{' and more' if len(differing) > 3 else ''}" if differing
-            else "its scene.toml cannot be read as a scene")
+    if earlier is None:
+        what = "its scene.toml cannot be read as a scene"
+    else:
+        differing = [f"{section}.{key}" for section in new
+                     for key in sorted(set(new[section]) | set(earlier.get(section, {})))
+                     if new[section].get(key) != earlier.get(section, {}).get(key)]
+        what = (f"its scene.toml differs in {', '.join(differing[:3])}"
+                f"{' and more' if len(differing) > 3 else ''}")
     raise output.OutputError(
         f"--out {out}: holds a sweep of another scene ({what}); resume it with the same "
         "scene and --set, name another --out, or add --force to replace it")
