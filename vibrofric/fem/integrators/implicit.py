@@ -276,7 +276,6 @@ class ImplicitRun(TimeLoop):
     def start(self, contact, scalars, recorder, steady) -> Started:
         scene, model, system = self.scene, self.model, self.system
         c, dt = scene.contact, scene.time.dt
-        alpha_m, alpha_f, beta_n, gamma, c_m, c_v = self.coefficients
         cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
         n, contacts = system.size, model.contact_nodes.size
         nc = 3 * contacts
@@ -298,7 +297,7 @@ class ImplicitRun(TimeLoop):
         nodes = ContactData(u0c, model.normal0, model.penalty_share, model.area_share,
                             self.tangent, self.assumed)
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
-        scheme = Scheme(dt, alpha_m, alpha_f, beta_n, gamma, c_m, c_v, model.beta,
+        scheme = Scheme(dt, *self.coefficients, model.beta,
                         self.iteration_tolerance * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
                         still_substeps(scene))
         drive = Drive(scene.drive.k_d, scene.drive.v_d, self.prescribed)
