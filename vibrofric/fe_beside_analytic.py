@@ -60,7 +60,8 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
     analytic stepper (at time.dt <= ANALYTIC_DT), and write into ``directory``: scene.toml, timeseries.csv
     (FE), analytic_timeseries.csv and, if fem.output_every > 0, paraview/.
     ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe);
-    ``start``, a neighbour's FE orbit state (time.method periodic or auto: fem.run_fe).
+    ``start``, a neighbour's FE orbit state (time.method periodic or auto: fem.run_fe);
+    without it, the FE shooting starts from the analytic stepper's F_dv (run first).
     The time series files hold the rows core.series.written() names, or with
     ``full_series`` every kept row.
 
@@ -71,13 +72,13 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
     from .analytic.summary import summarize, summarize_orbit
     from .fem import run_fe
 
-    try:
-        fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress,
-                    start=start)
-    except Refusal as refusal:
-        raise refused(refusal) from refusal
     beside = analytic_scene(scene)
     analytic_series, analytic = solve(beside)
+    try:     # a shooting without a neighbour's orbit starts from the lumped model's F_dv
+        fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress,
+                    start=start, drive_force=analytic["F_dv"])
+    except Refusal as refusal:
+        raise refused(refusal) from refusal
     info = fe.info
     answered = info.get("periodic", {}).get("method") == "periodic"
     if answered:    # the steady cycle: its mean, no breakaway, settled (summarize_orbit)
