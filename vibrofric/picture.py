@@ -19,7 +19,7 @@ PNG = {"dpi": DPI, "pil_kwargs": {"compress_level": 1}}  # as plots.RUN_PNG
 # Seen from below, in front of the drive: the view direction (0.8, -1.2, -0.9) as
 # matplotlib's elevation and azimuth, degrees.
 VIEW = {"elev": -31.6, "azim": -56.3}
-SUBDIVISIONS = 2  # each triangle of the contact face split in 4^SUBDIVISIONS, the pressure
+SUBDIVISIONS = 1  # each triangle of the contact face split in 4^SUBDIVISIONS, the pressure
                   # interpolated linearly over them: a smooth map without shading support
 
 
