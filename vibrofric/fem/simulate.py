@@ -28,8 +28,8 @@ class FEResult:
             state: outputs/steady.py), so summarize() applies as is
     info    what the run was and cost (run_info)
     fields  the node fields at the last step, as in the ParaView frames
-            (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3)
-            and "contact_nodes" (indices)
+            (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3),
+            "contact_nodes" (indices) and "t" (the step's time, s)
     orbit   with time.method "periodic" or "auto": the shooting's core.shooting.Orbit
             (whether or not it answered: info["periodic"]["method"] says), else None
     """
@@ -265,8 +265,9 @@ def normal_force_info(scene, model, stats: dict, swing) -> dict:
 
 def last_fields(model, state) -> dict:
     """The node fields at the run's last step, as in the ParaView frames (paraview.FIELDS),
-    with the nodes' "coordinates" and the "contact_nodes" indices."""
+    with the nodes' "coordinates", the "contact_nodes" indices and the step's time "t" (s)."""
     fields = node_fields(model, state)
     fields["coordinates"] = model.disc.coordinates
     fields["contact_nodes"] = model.contact_nodes
+    fields["t"] = state.t
     return fields
