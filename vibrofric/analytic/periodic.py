@@ -34,15 +34,19 @@ from time import perf_counter
 
 import numpy as np
 
-from ..core.base_motion import base_displacement, vibration_axis
+from ..core.base_motion import vibration_axis
 from ..core.law_limits import divergence_force
 from ..core.series import PLOT_CYCLES, TimeSeries
 from ..core.shooting import STABLE, Orbit, cycle_steps, instability
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
+from . import coupled
+from .coupled import at_rest, coupled_loop
+from .longitudinal import longitudinal_loop
 
 # Positions in the shooting state z (the law's state follows).
 X, VX, VY, FX, FY, LAW = range(6)
+CARRIED = [coupled.X, coupled.VX, coupled.VY, coupled.FX, coupled.FY]  # their slots in the loops'
 TOLERANCE = 1e-10        # converged: every scaled residual component below this (the state is
                          # scaled by its natural size, so this is ~1e-10 of F_c, of v_a, ...);
                          # one cycle's rounding leaves ~2e-11 (Fig 9 at k_v = 2 stalls there)
@@ -50,100 +54,6 @@ MAX_NEWTON = 40          # Newton iterations before giving up (each one 1 + n cy
 FD_STEP = 1e-7           # finite-difference step, relative to each unknown's scale: about the
                          # square root of the rounding error of one cycle (~1e-14 relative)
 PRESLIDE_STEPS = 1_000_000  # at most this many law updates to reach steady sliding (initial guess)
-
-
-@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
-def coupled_cycle(z, mass, k_d, v_d, prescribed, u0, omega, cos_theta, sin_theta, eta_y,
-                  F_N, params, dt, steps, f_max, out):
-    """One base cycle of coupled.coupled_loop from the state ``z`` (at a zero of the
-    base's phase, eq 23); returns the state after ``steps`` steps (the base is back
-    at phase zero when steps dt = 1/f), or writes nothing and returns z[0] = NaN
-    if the law's force diverged. Rows of every step go to ``out`` (t from the
-    cycle's start, x in the drive's frame) when it has ``steps`` rows."""
-    state = z[LAW:].copy()
-    x, y, vx, vy = z[X], 0.0, z[VX], z[VY]
-    f_x, f_y = z[FX], z[FY]
-    xb = yb = 0.0
-    sin_phase, cos_phase = 0.0, 1.0
-    cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
-    record = out.shape[0] == steps
-    end = np.empty_like(z)
-    for i in range(1, steps + 1):
-        t = i * dt
-        if prescribed:
-            x_new, y_new = v_d * t, 0.0
-        else:
-            f_d = k_d * (v_d * (t - dt) - x)          # eq 17 at the start of the step
-            vx += dt * (f_d - f_x) / mass            # eq 12
-            vy += dt * (-f_y) / mass                 # eqs 15-16
-            x_new, y_new = x + dt * vx, y + dt * vy
-        u, sin_phase, cos_phase = base_displacement(i, dt, omega, 0.0, u0, sin_phase, cos_phase,
-                                                    cos_step, sin_step)  # eq 23
-        xb_new, yb_new = u * cos_theta, u * sin_theta  # eqs 24-25
-        f_x, f_y = law_update(  # noqa: F821 (the scene's law, friction_law/specialize.py)
-            (x_new - x) - (xb_new - xb), y_new - y,  # phase 1 (eq 14)
-            0.0, eta_y * (yb_new - yb),              # phase 2 (eq 30)
-            F_N, 1.0, state, params, dt)
-        x, y, xb, yb = x_new, y_new, xb_new, yb_new
-        f_d = f_x if prescribed else k_d * (v_d * t - x)  # eq 17
-        if not (math.sqrt(f_x * f_x + f_y * f_y) <= f_max and math.isfinite(f_d)):
-            end[:] = np.nan
-            return end
-        if record:
-            out[i - 1, 0] = t
-            out[i - 1, 1] = f_d
-            out[i - 1, 2] = f_x
-            out[i - 1, 3] = f_y
-            out[i - 1, 4] = x - v_d * t
-            out[i - 1, 5] = y
-            out[i - 1, 6] = xb
-            out[i - 1, 7] = yb
-    end[X] = x - v_d * steps * dt
-    end[VX], end[VY], end[FX], end[FY] = vx, vy, f_x, f_y
-    end[LAW:] = state
-    return end
-
-
-@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
-def longitudinal_cycle(z, mass, k_d, v_d, prescribed, u0, omega, cos_theta, sin_theta, eta_y,
-                       F_N, params, dt, steps, f_max, out):
-    """One base cycle of longitudinal.longitudinal_loop from ``z`` (as coupled_cycle;
-    z[VY] and z[FY] stay 0)."""
-    state = z[LAW:].copy()
-    x, v, f, x_b = z[X], z[VX], z[FX], 0.0
-    sin_phase, cos_phase = 0.0, 1.0
-    cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
-    record = out.shape[0] == steps
-    end = np.empty_like(z)
-    for i in range(1, steps + 1):
-        t = i * dt
-        if prescribed:
-            x_new = v_d * t
-        else:
-            v += dt * (k_d * (v_d * (t - dt) - x) - f) / mass   # eq 12 with eq 17
-            x_new = x + dt * v
-        x_b_new, sin_phase, cos_phase = base_displacement(i, dt, omega, 0.0, u0, sin_phase,
-                                                          cos_phase, cos_step, sin_step)  # eq 23
-        f, _ = law_update((x_new - x) - (x_b_new - x_b), 0.0, 0.0, 0.0,  # noqa: F821 (eq 6)
-                          F_N, 1.0, state, params, dt)
-        x, x_b = x_new, x_b_new
-        f_d = f if prescribed else k_d * (v_d * t - x)                 # eq 17
-        if not abs(f) <= f_max:
-            end[:] = np.nan
-            return end
-        if record:
-            out[i - 1, 0] = t
-            out[i - 1, 1] = f_d
-            out[i - 1, 2] = f
-            out[i - 1, 3] = 0.0
-            out[i - 1, 4] = x - v_d * t
-            out[i - 1, 5] = 0.0
-            out[i - 1, 6] = x_b
-            out[i - 1, 7] = 0.0
-    end[X] = x - v_d * steps * dt
-    end[VX], end[VY], end[FX], end[FY] = v, 0.0, f, 0.0
-    end[LAW:] = state
-    return end
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -160,7 +70,7 @@ def preslide(state, slip, F_N, params, dt, max_steps):
     return f
 
 
-CYCLES = {"coupled": coupled_cycle, "longitudinal": longitudinal_cycle}
+LOOPS = {"coupled": coupled_loop, "longitudinal": longitudinal_loop}
 
 
 class CycleMap:
@@ -173,16 +83,18 @@ class CycleMap:
         law = scene.friction
         self.law = law
         self.params = law.params
-        cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
-        if stepper == "longitudinal":
-            cos_theta, sin_theta = 1.0, 0.0
-        self.kernel = CYCLES[stepper].for_law(law.law)
-        self.arguments = (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
-                          scene.u0, scene.omega, cos_theta, sin_theta, scene.contact.eta_y,
-                          scene.contact.F_N)
+        s = scene
+        head = (s.body.mass, s.drive.k_d, s.drive.v_d, s.drive.prescribed, s.u0, s.omega, 0.0)
+        if stepper == "coupled":
+            head += (*vibration_axis(s.vibration.theta_deg), s.contact.eta_y)
+        self.arguments = (*head, s.contact.F_N)    # the loop's arguments before the law's state
         self.f_max = divergence_force(scene)
         self.cycles = 0
         self.size = LAW + law.law.initial_state(1).shape[1]
+        self._at_rest, self._carried, self._no_rows = at_rest(), at_rest(), np.empty((0, 8))
+        sample = self._arguments(law.law.initial_state(1)[0], self._carried, self.steps + 1,
+                                 self._no_rows)
+        self.loop = LOOPS[stepper].prepared(law.law, sample, f"the {stepper} analytic stepper")
         self.free = self._free_unknowns()
         self.scale = self._scales()
 
@@ -211,9 +123,32 @@ class CycleMap:
         return scale
 
     def __call__(self, z: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """Phi(z): one cycle of the stepper's own loop (coupled.coupled_loop or
+        longitudinal.longitudinal_loop, t from the cycle's start, the base at phase
+        zero) from ``z``; NaN where the law's force diverged. With ``out`` ((steps, 8)
+        rows), every step's row is kept, x in the drive's frame."""
         self.cycles += 1
-        rows = np.empty((0, 8)) if out is None else out
-        return self.kernel(z, *self.arguments, self.params, self.dt, self.steps, self.f_max, rows)
+        carried = self._carried
+        carried[:] = self._at_rest
+        carried[CARRIED] = z[:LAW]
+        state = z[LAW:].copy()
+        keep_from = 1 if out is not None else self.steps + 1   # every step, or none
+        rows = out if out is not None else self._no_rows
+        failed = self.loop(*self._arguments(state, carried, keep_from, rows))
+        if failed:
+            return np.full_like(z, np.nan)
+        if out is not None:
+            out[:, 4] -= self.scene.drive.v_d * out[:, 0]
+        end = np.empty_like(z)
+        end[X] = carried[coupled.X] - self.scene.drive.v_d * self.steps * self.dt
+        end[VX:LAW] = carried[CARRIED[1:]]
+        end[LAW:] = state
+        return end
+
+    def _arguments(self, state, carried, keep_from, rows) -> tuple:
+        """The loop's arguments for steps 1..steps, keeping rows from step ``keep_from``."""
+        return (*self.arguments, state, self.params, self.dt, 1, self.steps, self.steps + 1,
+                keep_from, self.f_max, carried, rows)
 
     def sliding_state(self) -> np.ndarray:
         """Steady sliding at v_d without vibration: the initial guess (eq 17 with F = F_d0)."""
