@@ -184,7 +184,7 @@ def test_results_are_bit_identical_with_and_without_the_cache(model_cache_dir, l
 
 def test_frames_from_a_cached_model_need_no_dolfinx(model_cache_dir, load_scene, tmp_path):
     """A repeat run writes its ParaView frames from the cached model's arrays: the
-    same files, byte for byte, with neither DOLFINx, gmsh nor MPI imported."""
+    same files, byte for byte, with neither DOLFINx, gmsh, MPI nor meshio imported."""
     from vibrofric import output
     from vibrofric.fem import run_fe
 
@@ -193,7 +193,8 @@ def test_frames_from_a_cached_model_need_no_dolfinx(model_cache_dir, load_scene,
     output.write_scene(tmp_path, scene)
     code = ("import sys; from vibrofric import scene as s; from vibrofric.fem import run_fe; "
             f"run_fe(s.load({str(tmp_path / 'scene.toml')!r}), vtk_dir={str(tmp_path / 'b')!r}); "
-            "print(sorted(m for m in ('dolfinx', 'gmsh', 'mpi4py', 'petsc4py') if m in sys.modules))")
+            "print(sorted(m for m in ('dolfinx', 'gmsh', 'mpi4py', 'petsc4py', 'meshio') "
+            "if m in sys.modules))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           env=child_environment(VIBROFRIC_CACHE=str(model_cache_dir.parent)),
                           cwd=ROOT, timeout=600)
