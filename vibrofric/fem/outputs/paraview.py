@@ -33,7 +33,6 @@ every frame.
 import base64
 import zlib
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -83,6 +82,13 @@ class FrameWriter:
     def close(self) -> None:
         """Write the .pvd: the frames written so far, with their times."""
         self.path.write_text(collection(self.times))
+
+
+def quoteattr(text: str) -> str:
+    """``text`` as an XML attribute value, in double quotes (xml.sax.saxutils'
+    quoteattr, whose module imports urllib and ssl with it)."""
+    escaped = text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    return '"' + escaped.replace('"', "&quot;") + '"'
 
 
 VTK_HEXAHEDRON = 12  # VTK's cell type of the linear hexahedron (8 corners in VTK's order)
