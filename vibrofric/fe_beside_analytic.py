@@ -74,7 +74,8 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     frames into ``directory``/paraview if fem.output_every > 0) and the analytic
     stepper (at time.dt <= ANALYTIC_DT); write nothing else.
     ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe);
-    ``start``, a neighbour's FE orbit state (time.method periodic or auto: fem.run_fe).
+    ``start``, a neighbour's FE orbit state (time.method periodic or auto: fem.run_fe);
+    without it, the FE shooting starts from the analytic stepper's F_dv (run first).
 
     Raises SceneError (the model's refusal, naming the key) or NumericalError.
     """
@@ -82,12 +83,12 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     from .analytic.summary import summarize, summarize_orbit
     from .fem import run_fe
 
-    try:
+    analytic_series, analytic = solve(analytic_scene(scene))
+    try:     # a shooting without a neighbour's orbit starts from the lumped model's F_dv
         fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress,
-                    start=start)
+                    start=start, drive_force=analytic["F_dv"])
     except Refusal as refusal:
         raise refused(refusal) from refusal
-    analytic_series, analytic = solve(analytic_scene(scene))
     info = fe.info
     answered = info.get("periodic", {}).get("method") == "periodic"
     if answered:    # the steady cycle: its mean, no breakaway, settled (summarize_orbit)

@@ -9,6 +9,7 @@ from ..core.series import RecordPlan, TimeSeries, averaging_steps, full_resoluti
 from ..core.shooting import periodic_block
 from ..meshes import level_counts
 from .integrators import periodic, registry
+from .integrators.cycle_map import FECycleMap
 from .model.fe_model import build_model
 from .model.linalg import one_blas_thread
 from .outputs.normal_swing import judge
@@ -61,7 +62,8 @@ class Clock:
     wall_s: float
 
 
-def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResult:
+def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
+           drive_force=None) -> FEResult:
     """Run the scene's finite-element model (docs/model.md section 5).
 
     comm     an MPI communicator of one process (default MPI.COMM_SELF)
@@ -72,6 +74,10 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResul
              thousand steps of the time loop (simulated seconds)
     start    with time.method "periodic" or "auto": a neighbouring point's orbit
              state (FEResult.orbit.z) to shoot from (sweeps: continuation)
+    drive_force  with time.method "periodic" or "auto" and no ``start``: the mean
+             drive force expected (the lumped model's F_dv), N: the shooting starts
+             from steady sliding set back by the drive spring's stretch under it
+             instead of under F_d0 (periodic.find_orbit)
 
     With time.method "periodic" or "auto" (and vibration) the steady cycle is shot
     for first (integrators/periodic.py); where that does not converge or the orbit is not
@@ -91,11 +97,12 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResul
     if scene.time.method != "transient" and scene.vibrated:
         shot_scene, steps = periodic.periodic_scene(scene)
         integrator = prepare(shot_scene, model)
+        phi = FECycleMap(integrator, model, steps)    # the compiled step loaded
         setup_time = time.perf_counter() - start_time
         # BLAS on one thread, as in the time loop (time_loop.TimeLoop.integrate): the
         # cycles are its steps, with their ~100 x 100 products (linalg.one_blas_thread)
         with one_blas_thread():
-            orbit, phi = periodic.find_orbit(integrator, model, steps, start)
+            orbit = periodic.find_orbit(phi, start, drive_force)
             if orbit.converged and orbit.stable:
                 return _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir,
                                      start_time, setup_time)

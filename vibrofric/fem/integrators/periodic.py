@@ -60,17 +60,24 @@ def periodic_scene(scene):
     return scene.with_values({"time.dt": dt}), steps
 
 
-def find_orbit(run, model, steps: int, start: np.ndarray | None = None):
-    """Shoot for the periodic steady state of the prepared integrator ``run`` (its
-    scene's step puts ``steps`` steps in a cycle). Returns (Orbit, the FECycleMap).
-    ``start``: a neighbour's orbit state (Orbit.z, unscaled) on the same model, else
-    steady sliding. Never raises for a failed or unstable orbit: the Orbit says."""
+def find_orbit(phi: FECycleMap, start: np.ndarray | None = None,
+               drive_force: float | None = None) -> Orbit:
+    """Shoot for the periodic steady state of the cycle map ``phi`` (FECycleMap: the
+    prepared integrator's compiled step, loaded; its scene's step puts phi.steps steps
+    in a cycle). ``start``: a neighbour's orbit state (Orbit.z, unscaled) on the same
+    model; else steady sliding set back by the drive spring's stretch under
+    ``drive_force`` (the mean drive force expected, such as the lumped model's F_dv),
+    or under the steady sliding force F_d0 where it is not given. Never raises for a
+    failed or unstable orbit: the Orbit says. Its solver_time_s counts from here: the
+    compiled step was loaded with phi, as the stepped run's loop time counts from its
+    first step."""
     begin = perf_counter()
-    phi = FECycleMap(run, model, steps)
-    scene = run.scene
+    scene = phi.scene
+    steps = phi.steps
     fresh = start is None or np.shape(start) != (phi.full_size,)
     if fresh:
-        drive_force = scene.friction.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)
+        if drive_force is None or not math.isfinite(drive_force):
+            drive_force = scene.friction.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)
         z_raw = phi.initial_state(drive_force)
         for _ in range(PLAIN_CYCLES):
             z_next, _ = phi.raw_cycle(z_raw)
@@ -89,7 +96,7 @@ def find_orbit(run, model, steps: int, start: np.ndarray | None = None):
     z = shot.z * phi.scale
     cycles = phi.cycles
     if shot.converged:
-        smooth = _smooth_map(run, model, steps, phi.scale)
+        smooth = _smooth_map(phi)
         x = shot.z
         multipliers, count = largest_multipliers(smooth, x, smooth(x), FD_STEP)
         cycles += count + 1
@@ -111,7 +118,7 @@ def find_orbit(run, model, steps: int, start: np.ndarray | None = None):
     orbit.extra["start"] = "steady sliding" if fresh else "neighbour"
     if orbit_note:
         orbit.extra["floquet_note"] = orbit_note
-    return orbit, phi
+    return orbit
 
 
 def decay_rate(phi: FECycleMap, x: np.ndarray) -> float:
@@ -131,23 +138,26 @@ def decay_rate(phi: FECycleMap, x: np.ndarray) -> float:
     for _ in range(DECAY_CYCLES):
         y = phi(y)
         distances.append(float(np.sqrt(np.mean((y - x) ** 2))))
-    if not all(np.isfinite(distances)) or distances[DECAY_SKIP - 1] == 0.0:
+        if not math.isfinite(distances[-1]):
+            return math.inf
+    if distances[DECAY_SKIP - 1] == 0.0:
         return math.inf
     return (distances[-1] / distances[DECAY_SKIP - 1]) ** (1.0 / (DECAY_CYCLES - DECAY_SKIP))
 
 
-def _smooth_map(run, model, steps, scale) -> FECycleMap:
-    """The cycle map with the contact iteration converged to SMOOTH_ITERATION (implicit
-    and reduced; the explicit step has no iteration), on the same scales."""
+def _smooth_map(phi: FECycleMap) -> FECycleMap:
+    """The cycle map ``phi`` with the contact iteration converged to SMOOTH_ITERATION
+    (implicit and reduced; the explicit step has no iteration), on the same scales."""
+    run = phi.run
     tolerance = getattr(run, "iteration_tolerance", None)
     if tolerance is not None:
         run.iteration_tolerance = SMOOTH_ITERATION
     try:
-        smooth = FECycleMap(run, model, steps)
+        smooth = FECycleMap(run, phi.model, phi.steps)
     finally:
         if tolerance is not None:
             run.iteration_tolerance = tolerance
-    smooth.scale = scale
+    smooth.scale = phi.scale
     return smooth
 
 
