@@ -73,18 +73,18 @@ def test_the_orbit_equals_the_settled_stepped_run(path, changes, T):
 
 
 @pytest.mark.slow
-def test_an_orbit_judged_not_stable_is_reported_and_the_stepped_run_answers():
+def test_an_orbit_whose_perturbation_grows_before_it_decays_answers():
     """k_v = 1 along X (Fig 7, reduced), where the lumped model's drive spring is not
     damped (multipliers of modulus 1): the FE shooting converges, Arnoldi's largest Ritz
-    value is 1.89 and a perturbation grows (1.0099 a cycle over 30 cycles), so the orbit
-    is not the answer: the block says why and the answer is the stepped run through T,
-    the same as time.method transient gives. (That stepped run settles, to the orbit's
-    F_dv within 2e-7: the verdict is conservative here, never silent.)"""
+    value is 1.8 and a perturbation grows over cycles 10-40 (1.0099 a cycle), then
+    decays (0.972 a cycle over cycles 40-70: periodic.decay_rate), so the orbit answers,
+    its block saying how it was judged, and equals the stepped run through T, which
+    settles there (measured 2e-7; 1e-4 the issue's FE target)."""
     scene = stepped_scene(LONGITUDINAL, {**REDUCED, "vibration.k_v": 1.0}, 0.4)
     fe = run_fe(scene.with_values({"time.method": "periodic"}))
     block = fe.info["periodic"]
-    assert block["converged"] and block["method"] == "transient"
-    assert "Floquet multiplier" in block["reason"]
-    assert fe.info["steps"] == scene.steps
+    assert block["converged"] and block["method"] == "periodic"
+    assert "not confirmed" in block["floquet_note"] and block["floquet_max_modulus"] < 1.0
     stepped = run_fe(scene)
-    assert ratio(fe, scene) == ratio(stepped, scene)
+    assert summarize(stepped.series, scene, 0.0)["window_drift"] < 1e-6
+    assert ratio(fe, scene) == pytest.approx(ratio(stepped, scene), rel=1e-4)

@@ -147,34 +147,82 @@ def test_the_plot_process_imports_matplotlib_not_numba(tmp_path):
     assert loaded.isdisjoint({"numba", "llvmlite", "scipy", "dolfinx", "mpi4py", "gmsh"})
 
 
-def test_an_fe_runs_plots_are_those_drawn_in_one_process(tmp_path):
-    """The "fe" kind (vibrofric run): its three plots as drawn in one process; the
-    FE series here is the stepper's with a normal force added (any TimeSeries with
-    extra["F_n"] is drawn the same way)."""
+def block_fields(t: float) -> dict:
+    """Node fields of a made-up 3 x 2 x 2 block (FEResult.fields' keys that the picture
+    reads): the pressure rising along x, the traction along -x."""
     import numpy as np
+
+    x, y, z = np.meshgrid([0.0, 0.05, 0.1], [0.0, 0.04], [0.0, 0.02], indexing="ij")
+    coordinates = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    nodes = len(coordinates)
+    contact = np.flatnonzero(coordinates[:, 2] == 0.0)
+    pressure, traction = np.zeros(nodes), np.zeros((nodes, 3))
+    pressure[contact] = 4e4 + 2e5 * coordinates[contact, 0]
+    traction[contact, 0] = -0.5 * pressure[contact]
+    return {"coordinates": coordinates, "contact_nodes": contact, "contact_pressure": pressure,
+            "friction_traction": traction, "t": t}
+
+
+def test_an_fe_runs_plots_and_picture_are_those_drawn_in_one_process(tmp_path):
+    """The "fe" kind (vibrofric run): its three plots and the block's picture as drawn
+    in one process; the FE series here is the stepper's with a normal force added (any
+    TimeSeries with extra["F_n"] is drawn the same way), the block a made-up one."""
+    import numpy as np
+
+    from vibrofric import picture
 
     scene = scene_module.load(LONGITUDINAL, ["time.T=0.2"])
     analytic = written(solve(scene)[0], scene)
     fe = written(solve(scene)[0], scene)
     fe.extra["F_n"] = scene.contact.F_N * (1.0 + 0.01 * np.sin(2e4 * fe.t))
     runs = {"FE": fe, "analytic": analytic}
+    fields = block_fields(0.2)
     child, one = tmp_path / "child", tmp_path / "one"
     child.mkdir()
     one.mkdir()
     with plot_worker.PlotProcess("fe") as plotter:
-        with plotter.drawing(plot_worker.plots_job(runs, scene, child, fe=fe)):
+        with plotter.drawing(plot_worker.plots_job(runs, scene, child, fe=fe, picture=fields)):
             pass
     plots.drive_force_history(runs, scene, one / plot_worker.DRIVE_FORCE)
     plots.friction_last_cycles(runs, scene, one / plot_worker.LAST_CYCLES)
     plots.normal_force_history(fe, scene, one / plot_worker.NORMAL_FORCE)
-    for name in (plot_worker.DRIVE_FORCE, plot_worker.LAST_CYCLES, plot_worker.NORMAL_FORCE):
+    picture.draw(picture.picture_rows(fields), one / plot_worker.PICTURE)
+    for name in (plot_worker.DRIVE_FORCE, plot_worker.LAST_CYCLES, plot_worker.NORMAL_FORCE,
+                 plot_worker.PICTURE):
         assert (child / name).read_bytes() == (one / name).read_bytes(), name
 
 
-def test_the_picture_process_imports_pyvista_not_the_fe_stack(tmp_path):
-    """The "picture" kind gets ready (pyvista, its renderer) in a process without DOLFINx,
-    in which VTK's renderer would abort."""
-    pytest.importorskip("pyvista")
-    loaded = packages_loaded_by("from vibrofric import picture; picture.warm_up()", tmp_path)
-    assert "pyvista" in loaded
-    assert loaded.isdisjoint({"numba", "dolfinx", "mpi4py", "petsc4py", "gmsh"})
+def test_the_picture_draws_the_contact_face_coloured_by_its_pressure(tmp_path):
+    """Left of the colour bar, the picture holds the colour map's colours over most of
+    its range (the contact face, its pressure rising along x from 4e4 to 6e4 Pa), and
+    crimson (the arrows)."""
+    import numpy as np
+    from matplotlib import cm
+    from matplotlib.image import imread
+
+    from vibrofric import picture
+
+    path = tmp_path / "block.png"
+    picture.draw(picture.picture_rows(block_fields(0.3)), path)
+    image = imread(path)[..., :3]
+    assert image.shape[:2] == (700, 900)
+    block = image[:, :650].reshape(-1, 3)          # the colour bar stands right of x = 700
+    shades = cm.viridis(np.linspace(0.0, 1.0, 256))[:, :3]
+    gap = np.abs(block[:, None, :] - shades[None, :, :]).max(axis=2)
+    on_map = gap.min(axis=1) < 0.02                 # a colour of the map (PNG rounding: 1/255)
+    position = gap.argmin(axis=1)[on_map] / 255.0
+    assert on_map.mean() > 0.01                     # the face: a few % of the picture
+    # each triangle takes its mean pressure's colour: not the very ends of the map
+    assert position.min() < 0.2 and position.max() > 0.8
+    crimson = np.abs(block - np.array([220, 20, 60]) / 255).max(axis=1) < 0.08
+    assert crimson.mean() > 0.0005
+
+
+def test_the_plot_process_draws_the_picture_without_numba_or_the_fe_stack(tmp_path):
+    """The "fe" kind gets ready (matplotlib, its 3D axes) in a process without numba,
+    DOLFINx or VTK: no renderer to set up, nothing of the run's to load."""
+    loaded = packages_loaded_by("from vibrofric import plot_worker, plots, picture; "
+                                "plot_worker.warm_up(plots); picture.warm_up()", tmp_path)
+    assert {"matplotlib", "mpl_toolkits"} <= loaded
+    assert loaded.isdisjoint({"numba", "llvmlite", "scipy", "dolfinx", "mpi4py", "gmsh",
+                              "pyvista", "vtkmodules"})

@@ -239,25 +239,20 @@ def write_fe_run(scene: "Scene", stage: Path, progress: Callable[[float, float],
     ``vibrofric run`` writes it (its files, summary.json, plots and the block's
     picture). Returns (document, FEBesideAnalytic): document is the command's
     JSON, with "out" where ``out`` is given."""
-    from contextlib import ExitStack
-
     from . import output
-    from .fe_beside_analytic import fe_beside_analytic
-    from .plot_worker import PlotProcess, picture_job, plots_job
+    from .fe_beside_analytic import run_beside, write_beside
+    from .plot_worker import PlotProcess, plots_job
 
-    with ExitStack() as children:
-        # started first: they import matplotlib and pyvista while the FE run goes on
-        plotter = children.enter_context(PlotProcess("fe"))
-        painter = (children.enter_context(PlotProcess("picture"))
-                   if scene.fem.output_every > 0 else None)
-        done = fe_beside_analytic(scene, stage, progress=progress, full_series=full_series)
+    # started first: it imports matplotlib while the FE run goes on
+    with PlotProcess("fe") as plotter:
+        done = run_beside(scene, stage, progress=progress)
         document = {**done.document, "out": out} if out is not None else done.document
         runs = {"FE": done.fe.series, "analytic": done.analytic_series}
-        children.enter_context(plotter.drawing(plots_job(runs, scene, stage, fe=done.fe.series)))
-        if done.fe_info["frames"]:
-            children.enter_context(painter.drawing(picture_job(stage / "paraview" / "block.pvd",
-                                                               stage / "block.png")))
-        output.write_summary(stage, {**document, "fe_info": done.fe_info})
+        job = plots_job(runs, scene, stage, fe=done.fe.series,
+                        picture=done.fe.fields if done.fe_info["frames"] else None)
+        with plotter.drawing(job):   # it draws while the files are written
+            write_beside(stage, scene, done, full_series)
+            output.write_summary(stage, {**document, "fe_info": done.fe_info})
     return document, done
 
 

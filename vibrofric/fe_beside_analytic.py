@@ -1,8 +1,9 @@
 """One FE run of a scene beside the analytic stepper, written into a directory.
 
 The work of ``vibrofric run`` and of every point of ``vibrofric sweep --fe``:
-both call fe_beside_analytic() on a staging directory (output.staged) and add
-their own summary and plots.
+both run it on a staging directory (output.staged) and add their own summary
+and plots; ``vibrofric run`` hands its runs to the plot process (run_beside)
+before it writes their files (write_beside), so that both happen at once.
 """
 
 from dataclasses import dataclass
@@ -56,28 +57,38 @@ def relative_error(fe: float | None, analytic: float | None) -> float | None:
 
 def fe_beside_analytic(scene, directory, comm=None, progress=None,
                        full_series: bool = False, start=None) -> FEBesideAnalytic:
-    """Run the scene's FE model (on ``comm``, default MPI.COMM_SELF) and the
-    analytic stepper (at time.dt <= ANALYTIC_DT), and write into ``directory``: scene.toml, timeseries.csv
+    """Run the scene's FE model and the analytic stepper beside it (run_beside), and
+    write their files into ``directory`` (write_beside): scene.toml, timeseries.csv
     (FE), analytic_timeseries.csv and, if fem.output_every > 0, paraview/.
-    ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe);
-    ``start``, a neighbour's FE orbit state (time.method periodic or auto: fem.run_fe).
-    The time series files hold the rows core.series.written() names, or with
-    ``full_series`` every kept row.
 
     Raises SceneError (the model's refusal, naming the key) or NumericalError, leaving whatever it wrote
     by then for the caller's output.staged() to drop.
+    """
+    done = run_beside(scene, directory, comm, progress, start)
+    write_beside(directory, scene, done, full_series)
+    return done
+
+
+def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesideAnalytic:
+    """Run the scene's FE model (on ``comm``, default MPI.COMM_SELF; its ParaView
+    frames into ``directory``/paraview if fem.output_every > 0) and the analytic
+    stepper (at time.dt <= ANALYTIC_DT); write nothing else.
+    ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe);
+    ``start``, a neighbour's FE orbit state (time.method periodic or auto: fem.run_fe);
+    without it, the FE shooting starts from the analytic stepper's F_dv (run first).
+
+    Raises SceneError (the model's refusal, naming the key) or NumericalError.
     """
     from .analytic.solve import solve
     from .analytic.summary import summarize, summarize_orbit
     from .fem import run_fe
 
-    try:
+    analytic_series, analytic = solve(analytic_scene(scene))
+    try:     # a shooting without a neighbour's orbit starts from the lumped model's F_dv
         fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress,
-                    start=start)
+                    start=start, drive_force=analytic["F_dv"])
     except Refusal as refusal:
         raise refused(refusal) from refusal
-    beside = analytic_scene(scene)
-    analytic_series, analytic = solve(beside)
     info = fe.info
     answered = info.get("periodic", {}).get("method") == "periodic"
     if answered:    # the steady cycle: its mean, no breakaway, settled (summarize_orbit)
@@ -98,8 +109,14 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
     document = {"fe": fe_summary, "analytic": analytic,
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}
     fe_info = {**fe.info, "vtk": "paraview/block.pvd" if fe.info["frames"] else None}
-    output.write_scene(directory, scene)
-    output.write_timeseries(directory, written(fe.series, scene, full_series))
-    output.write_timeseries(directory, written(analytic_series, beside, full_series),
-                            "analytic_timeseries.csv")
     return FEBesideAnalytic(document, fe_info, fe, analytic_series)
+
+
+def write_beside(directory, scene, done: FEBesideAnalytic, full_series: bool = False) -> None:
+    """Write run_beside's ``done`` into ``directory``: scene.toml, timeseries.csv (FE) and
+    analytic_timeseries.csv, with the rows core.series.written() names, or with
+    ``full_series`` every kept row."""
+    output.write_scene(directory, scene)
+    output.write_timeseries(directory, written(done.fe.series, scene, full_series))
+    output.write_timeseries(directory, written(done.analytic_series, analytic_scene(scene),
+                                               full_series), "analytic_timeseries.csv")

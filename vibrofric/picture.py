@@ -1,85 +1,99 @@
-"""A picture of the block from its ParaView series (pyvista, off-screen).
+"""A picture of the block at the run's last step (matplotlib's 3D axes, Agg).
 
 The contact face coloured by contact pressure, with the friction traction as
-arrows, inside the block drawn translucent.
+arrows, inside the block drawn translucent, seen from below, in front of the
+drive. It is drawn from the node fields of the run's last step (the last
+ParaView frame's: fem/outputs/paraview.py), which the command sends to its plot
+process (plot_worker.py, kind "fe"), so it is drawn beside the plots with the
+library already loaded there and without reading the frame back.
 
-VTK's renderer aborts (std::bad_alloc) in a process that has loaded DOLFINx
-before it, so the picture is drawn in a child process of its own, one that
-``vibrofric run`` starts beside its time loop (plot_worker.py, kind
-"picture"): there ``warm_up`` imports pyvista and sets up the off-screen
-renderer while the run goes on, then ``render`` draws the last frame.
+The job (``picture_rows``) holds only what the picture draws: the nodes'
+coordinates, the contact nodes' pressure and friction traction, and the time.
 """
-
-import os
 
 import numpy as np
 
+DPI = 120
+SIZE_IN = (900 / DPI, 700 / DPI)   # inches: 900 x 700 pixels
+PNG = {"dpi": DPI, "pil_kwargs": {"compress_level": 1}}  # as plots.RUN_PNG
+# Seen from below, in front of the drive: the view direction (0.8, -1.2, -0.9) as
+# matplotlib's elevation and azimuth, degrees.
+VIEW = {"elev": -31.6, "azim": -56.3}
+SUBDIVISIONS = 1  # each triangle of the contact face split in 4^SUBDIVISIONS, the pressure
+                  # interpolated linearly over them: a smooth map without shading support
+
+
+def picture_rows(fields: dict) -> dict:
+    """What the picture draws of an FE run's last step: ``fields`` as FEResult.fields
+    (node fields, "coordinates", "contact_nodes", "t"), reduced to plain arrays."""
+    contact = fields["contact_nodes"]
+    return {"t": float(fields["t"]),
+            "coordinates": np.asarray(fields["coordinates"]),
+            "contact": np.asarray(fields["coordinates"])[contact],
+            "pressure": np.asarray(fields["contact_pressure"])[contact],
+            "traction": np.asarray(fields["friction_traction"])[contact, :2]}
+
 
 def warm_up() -> None:
-    """Import pyvista and draw a throwaway picture: the off-screen renderer (OSMesa)
-    is set up, and the text's fonts loaded, before the run's picture is drawn."""
-    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-    import pyvista as pv
-
-    plotter = pv.Plotter(off_screen=True, window_size=(64, 64))
-    plotter.add_mesh(pv.Cube(), opacity=0.2)
-    plotter.add_text("t", font_size=10)
-    plotter.screenshot(None, return_img=True)
-    plotter.close()
+    """Import the 3D axes (done while the run steps, not after it)."""
+    import mpl_toolkits.mplot3d  # noqa: F401
 
 
-def last_frame(pvd_path):
-    """The last time step of a .pvd series and its time."""
-    import pyvista as pv
-
-    reader = pv.get_reader(str(pvd_path))
-    reader.set_active_time_point(len(reader.time_values) - 1)
-    return reader.read().combine(), reader.time_values[-1]
-
-
-def render(pvd_path, png_path) -> None:
-    """Draw the picture in this process (one that has not loaded DOLFINx)."""
-    # OSMesa (Debian's libosmesa6): no display needed.
-    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkOSOpenGLRenderWindow")
-    import pyvista as pv
-
-    block, time = last_frame(pvd_path)
-    z = block.points[:, 2]
-    on_face = z <= z.min() + 1e-9 * np.ptp(z)
-    contact = pv.PolyData(block.points[on_face])
-    for name in ("contact_pressure", "friction_traction"):
-        contact[name] = np.asarray(block[name])[on_face]
-    bottom = contact.delaunay_2d()
-    traction = np.linalg.norm(contact["friction_traction"], axis=1)
-    arrow_length = 0.25 * min(np.ptp(block.points[:, 0]), np.ptp(block.points[:, 1]))
-    arrows = contact.glyph(orient="friction_traction", scale=False,
-                           factor=arrow_length * (traction.max() > 0))
-
-    plotter = pv.Plotter(off_screen=True, window_size=(900, 700))
-    plotter.add_mesh(block.extract_surface(algorithm="dataset_surface"), color="lightgrey", opacity=0.2)
-    plotter.add_mesh(block.outline(), color="black")
-    # the colour bar upright at the right edge, the block and its arrows left of it
-    plotter.add_mesh(bottom, scalars="contact_pressure", cmap="viridis",
-                     scalar_bar_args={"title": "contact pressure (Pa)\n", "fmt": "%.3g",
-                                      "vertical": True, "position_x": 0.84, "position_y": 0.15,
-                                      "width": 0.08, "height": 0.7})
-    plotter.add_mesh(arrows, color="crimson")
-    plotter.add_text(f"t = {time:.4g} s: contact pressure, friction traction (arrows)", font_size=10)
-    plotter.view_vector((0.8, -1.2, -0.9), viewup=(0, 0, 1))  # from below, in front of the drive
-    plotter.reset_camera()
-    _shift_left(plotter.camera, 0.12)
-    plotter.camera.zoom(0.9)
-    plotter.screenshot(str(png_path))
-    plotter.close()
+def _box_faces(low, high) -> list:
+    """The six faces of the block's bounding box, each four corners."""
+    corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1])
+                        for z in (low[2], high[2])])
+    faces = ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5))
+    return [corners[list(face)] for face in faces]
 
 
-def _shift_left(camera, fraction: float) -> None:
-    """Move what the camera sees to the left by ``fraction`` of the view's width."""
-    position, focus = np.array(camera.position), np.array(camera.focal_point)
-    forward = focus - position
-    right = np.cross(forward, np.array(camera.up))
-    right /= np.linalg.norm(right)
-    distance = np.linalg.norm(forward)
-    width = 2.0 * distance * np.tan(np.radians(camera.view_angle) / 2.0)
-    shift = fraction * width * right
-    camera.position, camera.focal_point = tuple(position + shift), tuple(focus + shift)
+def draw(rows: dict, png_path) -> None:
+    """Draw ``rows`` (picture_rows) into ``png_path``."""
+    from matplotlib import cm, colors
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.tri import Triangulation, UniformTriRefiner
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    points, contact = rows["coordinates"], rows["contact"]
+    pressure, traction = rows["pressure"], rows["traction"]
+    low, high = points.min(axis=0), points.max(axis=0)
+    face_z = low[2]
+
+    fig = Figure(figsize=SIZE_IN, dpi=DPI)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(projection="3d", computed_zorder=False)
+    ax.add_collection3d(Poly3DCollection(_box_faces(low, high), facecolor=(0.83, 0.83, 0.83, 0.2),
+                                         edgecolor="black", linewidth=0.6))
+
+    fine, fine_pressure = UniformTriRefiner(Triangulation(contact[:, 0], contact[:, 1])) \
+        .refine_field(pressure, subdiv=SUBDIVISIONS)
+    norm = colors.Normalize(pressure.min(), pressure.max())
+    corners = fine.triangles
+    polygons = np.stack([fine.x[corners], fine.y[corners], np.full(corners.shape, face_z)], axis=-1)
+    shades = cm.viridis(norm(fine_pressure[corners].mean(axis=1)))
+    # edges of the triangles' own colour: no seams between them
+    ax.add_collection3d(Poly3DCollection(polygons, facecolors=shades, edgecolors=shades,
+                                         linewidths=0.3))
+
+    magnitude = np.linalg.norm(traction, axis=1)
+    shown = np.vstack([low, high])
+    if magnitude.max() > 0:   # arrows of one length, along the traction
+        length = 0.25 * min(high[0] - low[0], high[1] - low[1])
+        unit = traction / np.where(magnitude > 0, magnitude, 1.0)[:, None]
+        ax.quiver(contact[:, 0], contact[:, 1], np.full(len(contact), face_z),
+                  unit[:, 0], unit[:, 1], np.zeros(len(contact)), length=length,
+                  color="crimson", arrow_length_ratio=0.25, linewidth=1.0)
+        tips = contact[:, :2] + length * unit
+        shown = np.vstack([shown, np.column_stack([tips, np.full(len(tips), face_z)])])
+
+    lower, upper = shown.min(axis=0), shown.max(axis=0)
+    ax.set(xlim=(lower[0], upper[0]), ylim=(lower[1], upper[1]), zlim=(lower[2], upper[2]))
+    ax.set_box_aspect(upper - lower)
+    ax.view_init(**VIEW)
+    ax.set_axis_off()
+    fig.colorbar(cm.ScalarMappable(norm, cm.viridis), ax=ax, shrink=0.7, format="%.3g",
+                 label="contact pressure (Pa)")
+    fig.suptitle(f"t = {rows['t']:.4g} s: contact pressure, friction traction (arrows)",
+                 fontsize=10)
+    fig.savefig(png_path, **PNG)

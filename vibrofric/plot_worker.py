@@ -1,4 +1,4 @@
-"""A run's plots and the block's picture, drawn by child processes while the run loads and runs.
+"""A run's plots and the block's picture, drawn by a child process while the run loads and runs.
 
 Drawn in the command's own process, after the stepping, the plots cost it
 ~0.33 s of a ~0.75 s command: matplotlib imported (~0.19 s), then the two
@@ -18,17 +18,18 @@ while the command writes timeseries.csv:
                 ...                                     # scene.toml, summary.json, the CSV
             # here it has finished; had it failed: PlotError
 
-``vibrofric run`` does the same with two children, started before its FE
-model is set up: one draws its three plots (the two above, FE beside
-analytic, and the FE model's normal force), the other the block's picture
-(picture.py: pyvista, which imports ~0.3 s and sets up its off-screen
-renderer ~0.5 s before the first picture, both while the time loop runs;
-then it reads the last ParaView frame the run wrote and draws it). Drawn
-one after the other in the command's process, after the loop, they took
-~1.8 s of a repeat Fig 7 run (docs/first-answer.md).
+``vibrofric run`` does the same, its child started before the FE model is set
+up: it draws three plots (the two above, FE beside analytic, and the FE
+model's normal force) and the block's picture (picture.py: matplotlib's 3D
+axes, from the node fields of the run's last step, sent with the rows). The
+rows are sent as soon as both models have run, and the child draws while the
+command writes the time series and the summary. Drawn one after the other in
+the command's process after the loop, the plots and the picture (then
+pyvista's, in a second child) took ~1.8 s of a repeat Fig 7 run
+(docs/first-answer.md).
 
 The kinds of child (``PlotProcess(kind)``): "analytic" (two plots), "fe"
-(three plots), "picture" (the block's picture).
+(three plots and the picture).
 
 A failure on either side fails the run and leaves nothing. The child's is
 raised as PlotError (with its traceback) when ``drawing`` ends, inside the
@@ -50,7 +51,8 @@ from types import SimpleNamespace
 DRIVE_FORCE = "drive_force.png"
 LAST_CYCLES = "friction_last_cycles.png"
 NORMAL_FORCE = "normal_force.png"
-KINDS = ("analytic", "fe", "picture")
+PICTURE = "block.png"
+KINDS = ("analytic", "fe")
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent  # the directory that holds vibrofric
 # OpenBLAS, loaded with numpy, starts a thread per further core, which spins a while
 # waiting for work. Neither process gives it any, and each needs the other's core
@@ -63,9 +65,9 @@ class PlotError(RuntimeError):
 
 
 class PlotProcess:
-    """The child process that draws a run's plots, or its picture (``kind``, one of
-    KINDS; a context manager: the child is started on entry, and ended, if still
-    running, and reaped on exit)."""
+    """The child process that draws a run's plots (``kind``, one of KINDS; a context
+    manager: the child is started on entry, and ended, if still running, and reaped
+    on exit)."""
 
     def __init__(self, kind: str = "analytic"):
         assert kind in KINDS, kind
@@ -94,7 +96,7 @@ class PlotProcess:
 
     @contextlib.contextmanager
     def drawing(self, job: dict):
-        """Send ``job`` (plots_job, picture_job); the child draws it while the block
+        """Send ``job`` (plots_job); the child draws it while the block
         runs. At the block's end wait for the child: PlotError if it failed. If
         anything fails before, the child is ended and reaped first."""
         try:
@@ -134,19 +136,19 @@ def one_blas_thread():
             os.environ.pop(name, None)
 
 
-def plots_job(runs: dict, scene, directory: Path, fe=None) -> dict:
+def plots_job(runs: dict, scene, directory: Path, fe=None, picture=None) -> dict:
     """What the plots of ``runs`` (a label to a TimeSeries) draw into ``directory``;
-    with ``fe``, an FE run's TimeSeries, its normal force plot too."""
+    with ``fe``, an FE run's TimeSeries, its normal force plot too; with ``picture``,
+    the FE run's last node fields (FEResult.fields), the block's picture too."""
     job = {"directory": Path(directory).absolute(), "scene": plotted_scene(scene),
            **plotted_rows(runs, scene)}
     if fe is not None:
         job["normal"] = SimpleNamespace(t=fe.t, extra={"F_n": fe.extra["F_n"]})
+    if picture is not None:
+        from .picture import picture_rows
+
+        job["picture"] = picture_rows(picture)
     return job
-
-
-def picture_job(pvd_path: Path, png_path: Path) -> dict:
-    """The block's picture from the last frame of the ParaView series ``pvd_path``."""
-    return {"pvd": Path(pvd_path).absolute(), "png": Path(png_path).absolute()}
 
 
 def plotted_scene(scene) -> SimpleNamespace:
@@ -183,24 +185,20 @@ def warm_up(plots) -> None:
 
 
 def serve(kind: str) -> None:
-    """The child: import matplotlib (or pyvista), warm up, then draw the job the
-    command sends on stdin; nothing to draw if stdin closes first."""
-    if kind == "picture":
-        from . import picture
+    """The child: import matplotlib, warm up, then draw the job the command sends
+    on stdin; nothing to draw if stdin closes first."""
+    from . import picture, plots
 
+    warm_up(plots)
+    if kind == "fe":
         picture.warm_up()
-    else:
-        from . import plots
-
-        warm_up(plots)
     try:
         job = pickle.load(sys.stdin.buffer)
     except EOFError:
         return
-    if kind == "picture":
-        picture.render(job["pvd"], job["png"])
-        return
     directory = job["directory"]
+    if "picture" in job:
+        picture.draw(job["picture"], directory / PICTURE)
     plots.drive_force_history(job["whole"], job["scene"], directory / DRIVE_FORCE)
     plots.friction_last_cycles(job["last_cycles"], job["scene"], directory / LAST_CYCLES)
     if "normal" in job:

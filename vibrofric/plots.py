@@ -155,11 +155,11 @@ def error_per_point(records: list, keys: list, path) -> None:
 
 def normal_force_history(series, scene, path) -> None:
     """The FE model's summed normal reaction over time: steady at F_N in a sound run."""
-    fig, ax = figure((7, 3.5))
+    fig, ax = figure((7, 3.5), RUN_DPI)
     ax.plot(series.t, series.extra["F_n"], lw=0.8, label=r"$\sum$ nodal normal force")
     ax.axhline(scene.contact.F_N, color="k", ls=":", lw=0.8, label=r"$F_N$")
     ax.set(xlabel="time t (s)", ylabel="normal reaction (N)",
            title="normal force over the contact face")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.subplots_adjust(**{**RUN_MARGINS, "bottom": 0.15, "top": 0.9})
+    fig.savefig(path, **RUN_PNG)

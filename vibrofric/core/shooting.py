@@ -29,6 +29,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 STABLE = 1.0 - 1e-6      # a Floquet multiplier modulus at or above this is not a stable orbit
+# newton_picard starts afresh (its Newton matrix retaken, Anderson's history dropped) where
+# the residual exceeds ASTRAY times its best, or has not improved on it for STALL
+# iterations. Over ten FE cases from steady sliding (Fig 7 and nine of the Fig 12 grid,
+# reduced) the cycles came to 1039 with a restart wherever the residual doubled (each
+# restart throws away the history that accelerates the tail), 478 with ASTRAY 20 (the
+# same for 50 and never), 474 with STALL 8; without STALL, LuGre on Fig 7 cycled among
+# three states (residuals 4.7e-4, 7.7e-4, 9.6e-4) until the cycles ran out.
+ASTRAY = 20.0
+STALL = 8
+MARGIN = 0.1     # largest_multipliers: settled to this fraction of the distance to the unit circle
 
 
 def cycle_steps(scene) -> tuple:
@@ -178,28 +188,30 @@ def _arnoldi(product, start: np.ndarray, steps: int, stop=None):
     return V[:, :k + 1], H[:k + 1, :k], k
 
 
-def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step: float, tolerance: float,
+def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step, tolerance: float,
                   max_cycles: int, memory: int = 20) -> Shot:
     """Solve cycle(x) = x (scaled variables) where a few known directions decay slowly.
 
     ``slow`` (n, p): directions spanning the map's slowest modes (the FE model: the
     block's rigid motion on the drive spring, multiplier ~0.985 a cycle on Fig 7,
     which makes the stepped transient take ~1000 cycles). On their span, Newton:
-    the p x p matrix H = S^T J S by forward differences of ``slow_step`` along each
-    (one cycle each: a step large against the map's roughness, the contact
-    iteration's tolerance, and still in its linear range); on the rest, plain
-    cycles (Picard): the Newton-Picard splitting of Lust, Roose, Spence &
-    Champneys, SIAM J. Sci. Comput. 19 (1998). That iteration
+    the p x p matrix H = S^T J S by forward differences of ``slow_step`` (one step,
+    or one for each of the p directions) along each (one cycle each: a step large
+    against the map's roughness, the contact iteration's tolerance, and still in
+    its linear range); on the rest, plain cycles (Picard): the Newton-Picard
+    splitting of Lust, Roose, Spence & Champneys, SIAM J. Sci. Comput. 19 (1998).
+    That iteration
 
         T(x) = x + (I - S S^T) r + S dp,    (H - I) dp = -S^T r,    r = cycle(x) - x
 
     is accelerated by Anderson's mixing over the last ``memory`` iterates (Anderson,
     J. ACM 12, 1965; Walker & Ni, SIAM J. Numer. Anal. 49, 2011): the next x is
     the combination of the T's whose residuals' combination is least. Where the
-    residual doubles past its best, H is taken afresh there and the history
-    dropped (H taken far from the orbit can send the slow modes astray: at k_v = 2
-    along X on the coupled scene the residual fell to 1e-3 and then grew); where
-    the stepper fails from the combined state, the plain step is taken. Converged:
+    residual grows to ASTRAY times its best or has not improved on it for STALL
+    iterations, H is taken afresh there and the history dropped (H taken far from
+    the orbit can send the slow modes astray; Anderson's combinations on a map with
+    kinks can cycle); where the stepper fails from the combined state, the plain
+    step is taken. Converged:
     the RMS of r at most ``tolerance``; at most ``max_cycles`` cycles.
     """
     cycles = 0
@@ -210,11 +222,11 @@ def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step: float, tole
         return cycle(y)
 
     S, _ = np.linalg.qr(slow)
+    steps = np.broadcast_to(np.asarray(slow_step, dtype=float), (S.shape[1],))
 
     def newton_matrix(y, g_y):
         """H - I, H = S^T J S at y by forward differences (p cycles)."""
-        H = np.column_stack([(phi(y + slow_step * S[:, j]) - g_y) / slow_step
-                             for j in range(S.shape[1])])
+        H = np.column_stack([(phi(y + h * S[:, j]) - g_y) / h for j, h in enumerate(steps)])
         if not np.all(np.isfinite(H)):     # the stepper failed: plain cycles there too
             return -np.eye(S.shape[1])
         return S.T @ H - np.eye(S.shape[1])
@@ -222,7 +234,7 @@ def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step: float, tole
     g = phi(x)
     newton = newton_matrix(x, g)
     xs, ts = [], []
-    best, best_g = math.inf, g
+    best, best_g, since_best = math.inf, g, 0
     iterations = 0
     reason = ""
     while True:
@@ -238,13 +250,16 @@ def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step: float, tole
                       f"(residual {norm:.3g})")
             break
         if norm < best:
-            best_g = g
-        if norm > 2.0 * best:
-            # Astray: the slow modes' multipliers have moved since H was taken (far from
-            # the orbit), or Anderson's combination overshot: H afresh here, history dropped.
+            best_g, since_best = g, 0
+        else:
+            since_best += 1
+        if norm > ASTRAY * best or since_best > STALL:
+            # Astray (the slow modes' multipliers have moved since H was taken far from
+            # the orbit, or Anderson's combination overshot), or stalled (Anderson's
+            # combinations cycling among the same few states): H afresh here, history dropped.
             newton = newton_matrix(x, g)
             xs, ts = [], []
-            best = norm
+            best, since_best = norm, 0
         best = min(best, norm)
         iterations += 1
         dp = np.linalg.solve(newton, -(S.T @ r))
@@ -270,27 +285,44 @@ def newton_picard(cycle, x: np.ndarray, slow: np.ndarray, slow_step: float, tole
 
 
 def largest_multipliers(cycle, z: np.ndarray, phi_z: np.ndarray, fd_step: float,
-                        steps: int = 30, settle: float = 1e-4, seed: int = 0):
+                        steps: int = 30, settle: float = 1e-4, margin: float = MARGIN,
+                        seed: int = 0):
     """(multipliers largest modulus first, cycles integrated): the Ritz values of the
     cycle map's Jacobian at ``z`` (Arnoldi on forward-difference products, from a
-    reproducible random start), stopped once the largest modulus changes by at most
-    ``settle`` from one product to the next (at least 5 products)."""
+    reproducible random start; [inf] where the stepper failed in one), stopped (after at least 5 products) once the largest
+    modulus rho changes by at most ``settle`` rho from one product to the next, or
+    by at most ``margin`` |1 - rho| over each of the last two: settled well enough
+    to say on which side of the unit circle it lies, the verdict it is taken for."""
     h = fd_step * max(1.0, float(np.sqrt(np.mean(z * z))))
     count = 0
 
     def jacobian(d):
         nonlocal count
         count += 1
-        return (cycle(z + h * d) - phi_z) / h    # |d| = 1: Arnoldi's vectors are unit
+        product = (cycle(z + h * d) - phi_z) / h    # |d| = 1: Arnoldi's vectors are unit
+        if not np.all(np.isfinite(product)):
+            raise _Failed
+        return product
 
     history = []
 
     def settled(V, H, k):
         ritz = np.linalg.eigvals(H[:k, :k])
         history.append(float(np.abs(ritz).max()))
-        return k >= 5 and abs(history[-1] - history[-2]) <= settle * history[-1]
+        if k < 5:
+            return False
+        rho = history[-1]
+        change = np.abs(np.diff(history[-3:]))
+        return bool(change[-1] <= settle * rho or np.all(change <= margin * abs(1.0 - rho)))
 
     start = np.random.default_rng(seed).standard_normal(z.size)
-    V, H, k = _arnoldi(jacobian, start, steps, settled)
+    try:
+        V, H, k = _arnoldi(jacobian, start, steps, settled)
+    except _Failed:         # the stepper failed from a perturbed orbit: nothing is judged
+        return np.array([math.inf]), count
     ritz = np.linalg.eigvals(H[:k, :k])
     return ritz[np.argsort(-np.abs(ritz))], count
+
+
+class _Failed(Exception):
+    """The stepper failed in one of largest_multipliers' products."""

@@ -9,6 +9,7 @@ from ..core.series import RecordPlan, TimeSeries, averaging_steps, full_resoluti
 from ..core.shooting import periodic_block
 from ..meshes import level_counts
 from .integrators import periodic, registry
+from .integrators.cycle_map import FECycleMap
 from .model.fe_model import build_model
 from .outputs.normal_swing import judge
 from .outputs.paraview import FrameWriter, node_fields
@@ -27,8 +28,8 @@ class FEResult:
             state: outputs/steady.py), so summarize() applies as is
     info    what the run was and cost (run_info)
     fields  the node fields at the last step, as in the ParaView frames
-            (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3)
-            and "contact_nodes" (indices)
+            (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3),
+            "contact_nodes" (indices) and "t" (the step's time, s)
     orbit   with time.method "periodic" or "auto": the shooting's core.shooting.Orbit
             (whether or not it answered: info["periodic"]["method"] says), else None
     """
@@ -60,7 +61,8 @@ class Clock:
     wall_s: float
 
 
-def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResult:
+def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
+           drive_force=None) -> FEResult:
     """Run the scene's finite-element model (docs/model.md section 5).
 
     comm     an MPI communicator of one process (default MPI.COMM_SELF)
@@ -71,6 +73,10 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResul
              thousand steps of the time loop (simulated seconds)
     start    with time.method "periodic" or "auto": a neighbouring point's orbit
              state (FEResult.orbit.z) to shoot from (sweeps: continuation)
+    drive_force  with time.method "periodic" or "auto" and no ``start``: the mean
+             drive force expected (the lumped model's F_dv), N: the shooting starts
+             from steady sliding set back by the drive spring's stretch under it
+             instead of under F_d0 (periodic.find_orbit)
 
     With time.method "periodic" or "auto" (and vibration) the steady cycle is shot
     for first (integrators/periodic.py); where that does not converge or the orbit is not
@@ -90,8 +96,9 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None) -> FEResul
     if scene.time.method != "transient" and scene.vibrated:
         shot_scene, steps = periodic.periodic_scene(scene)
         integrator = prepare(shot_scene, model)
+        phi = FECycleMap(integrator, model, steps)    # the compiled step loaded
         setup_time = time.perf_counter() - start_time
-        orbit, phi = periodic.find_orbit(integrator, model, steps, start)
+        orbit = periodic.find_orbit(phi, start, drive_force)
         if orbit.converged and orbit.stable:
             return _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir,
                                  start_time, setup_time)
@@ -258,8 +265,9 @@ def normal_force_info(scene, model, stats: dict, swing) -> dict:
 
 def last_fields(model, state) -> dict:
     """The node fields at the run's last step, as in the ParaView frames (paraview.FIELDS),
-    with the nodes' "coordinates" and the "contact_nodes" indices."""
+    with the nodes' "coordinates", the "contact_nodes" indices and the step's time "t" (s)."""
     fields = node_fields(model, state)
     fields["coordinates"] = model.disc.coordinates
     fields["contact_nodes"] = model.contact_nodes
+    fields["t"] = state.t
     return fields

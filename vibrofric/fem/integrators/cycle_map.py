@@ -232,10 +232,11 @@ class FECycleMap:
         end, _ = self.raw_cycle(x * self.scale)
         return self.gauge(end / self.scale)
 
-    def slow_directions(self) -> np.ndarray:
+    def slow_directions(self, normalized: bool = True) -> np.ndarray:
         """(scaled size, 2): the block's rigid translation in X and its velocity: the
         drive mode (the block on the drive spring k_d), the map's slowest (0.985 a
-        cycle on Fig 7), gauged."""
+        cycle on Fig 7), gauged; each of unit norm, or with ``normalized`` False
+        that of a unit translation (1 m) and a unit velocity (1 m/s)."""
         velocity = np.zeros(self.full_size)
         moved = self.started.rigid(self._motion("x"))
         k = 0
@@ -243,16 +244,27 @@ class FECycleMap:
             if name == "v":
                 velocity[k:k + array.size] = np.asarray(moved["q" if "q" in moved else "u"]).ravel()
             k += array.size
-        return np.column_stack([self.gauge(self.translation / self.scale),
-                                self.gauge(velocity / self.scale)])
+        directions = np.column_stack([self.gauge(self.translation / self.scale),
+                                      self.gauge(velocity / self.scale)])
+        if normalized:
+            directions /= np.linalg.norm(directions, axis=0)
+        return directions
 
-    def slow_step(self) -> float:
-        """The difference step along the normalized slow directions: a rigid shift of
-        1e-3 of the drive spring's stretch under F_c (57 nm on Fig 7): linear, and far
-        above the contact iteration's tolerance (1e-6 of F_N / k_t, 0.7 pm)."""
+    def slow_step(self) -> np.ndarray:
+        """The difference steps along the normalized slow directions (slow_directions):
+        a rigid shift of 1e-3 of the drive spring's stretch under F_c (57 nm on Fig 7):
+        linear, and far above the contact iteration's tolerance (1e-6 of F_N / k_t,
+        0.7 pm); and the velocity the drive mode has at that amplitude, the shift times
+        its angular frequency sqrt(k_d / m) (25 um/s on Fig 7, 5% of v_d). The same
+        scaled step in both (a velocity of 0.17 m/s on Fig 7, 340 v_d) made the Newton
+        matrix's velocity column a difference across the contact's kinks: from steady
+        sliding its residual was 8000 against 120 at the start."""
         scene = self.scene
         F_c = scene.F_c if scene.F_c > 0 else scene.contact.F_N
-        return 1e-3 * F_c / scene.drive.k_d * float(np.linalg.norm(self.translation / self.scale))
+        shift = 1e-3 * F_c / scene.drive.k_d
+        speed = shift * math.sqrt(scene.drive.k_d / scene.body.mass)
+        directions = self.slow_directions(normalized=False)
+        return np.array([shift, speed]) * np.linalg.norm(directions, axis=0)
 
     def initial_state(self, drive_force: float) -> np.ndarray:
         """The unscaled co-moving state of steady sliding before any transient: the preload,
