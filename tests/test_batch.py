@@ -37,10 +37,10 @@ def analytic_sweep(out, *more):
 def command(args):
     """The vibrofric command in a fresh interpreter, as a user runs it.
 
-    FE sweeps run this way, never in the test process: once DOLFINx is loaded
-    in a process, pyvista's rendering aborts there if VTK was not loaded first
-    (std::bad_alloc in VTK's std::regex), which would take down test_cli's
-    block picture.
+    FE sweeps run this way, never in the test process, which they would leave
+    with DOLFINx and MPI loaded (in which pyvista's rendering, in tests that
+    read the ParaView series back, aborts if VTK was not loaded first:
+    std::bad_alloc in VTK's std::regex).
     """
     return [sys.executable, "-m", "vibrofric.cli", *args]
 

@@ -7,7 +7,9 @@ import sys
 import types
 from pathlib import Path
 
+import numpy as np
 import pytest
+from llvmlite.binding import Linkage
 
 from vibrofric.friction_law import load_law, specialize
 
@@ -93,3 +95,50 @@ def test_a_signal_while_numba_compiles_ends_the_wait_at_once():
     # The wait polls every 0.05 s; 1 s leaves room for a loaded machine and is still
     # well short of the 3 s the swallowed interrupt took before.
     assert time.monotonic() - start < 1.0
+
+
+@specialize.law_kernel(error_model="numpy")
+def _friction_sum(states, params, slip):
+    """A law kernel that calls the law (a loop: too large for LLVM to inline twice)."""
+    total = 0.0
+    for c in range(states.shape[0]):
+        f_x, f_y = law_update(slip, 0.0, 0.0, 0.0, 1.0, 1.0,  # noqa: F821 (the law's)
+                              states[c], params, 1e-6)
+        total += f_x - f_y
+    return total
+
+
+@specialize.law_kernel(error_model="numpy")
+def _two_sums(states, params):
+    """A law kernel that calls another, twice."""
+    return _friction_sum(states, params, 1e-9) + _friction_sum(states, params, -2e-9)
+
+
+def test_a_law_kernel_calls_only_its_own_copies_of_what_it_calls(tmp_path):
+    """numba links a called function into the caller as a copy under the callee's own
+    name, which the loader may bind to the callee's separately compiled code instead
+    (when that is loaded: in the process that compiled the caller), so the caller's
+    bits depended on how its callees came (self_contained_law_kernels). Every linked
+    copy in a law kernel must carry a name of that kernel's own, not shared with the
+    callee's code or another kernel's copies."""
+    law_file = tmp_path / "my_law.py"
+    law_file.write_text(EXAMPLE.read_text() + f"# {tmp_path.name}: not compiled before\n")
+    law = load_law(str(law_file))
+    states = law.initial_state(3)
+    params = np.array([80e6, 0.1])
+    caller = _two_sums.for_law(law)
+    caller(states, params)
+
+    def linked(dispatcher):
+        """The names of the functions linked into the dispatcher's one compiled version."""
+        module = dispatcher.overloads[dispatcher.signatures[0]].library._final_module
+        return {f.name for f in module.functions
+                if not f.is_declaration and f.linkage == Linkage.linkonce_odr}
+
+    in_caller = linked(caller)
+    in_callee = linked(_friction_sum.for_law(law))
+    # the callee is kept as a call (not inlined away), so its copy is there to check
+    assert any("_friction_sum__" in name for name in in_caller), in_caller
+    suffixes = {name.rpartition(".in.")[2] for name in in_caller}
+    assert len(suffixes) == 1 and all(".in." in name for name in in_caller), in_caller
+    assert not in_caller & in_callee

@@ -19,6 +19,14 @@ lowers the law afresh at every call site: with it the reduced FE loop took
 131 s to compile with Dahl's law, without it 27 s, its results the same to
 the bit and its speed within 2% (docs/first-answer.md).
 
+A law kernel's machine code is self-contained (``self_contained_law_kernels``):
+the functions it calls are linked into it as copies under names of its own, so
+its bits are the same whether it was compiled in this process or loaded from
+the cache, and whichever way its callees came. So the loops' parts can be law
+kernels of their own, each compiled once per law and linked where it is called
+(the implicit step's contact iteration: contact_solve.py), instead of inlined
+by numba into one large function, which numba types afresh at every call site.
+
 Compiling is announced, never hidden: ``loop.prepared(law, args, what)``
 returns the loop compiled for ``law`` and the types of ``args`` (the call a
 run is about to make), loaded from numba's cache when it is there; when it is
@@ -32,12 +40,14 @@ to load (damaged, or written by an incompatible build) is dropped and the
 loop compiled anew.
 """
 
+import hashlib
 import sys
 import threading
 import types
 from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
+from llvmlite.binding import Linkage
 from numba import njit
 
 from ..disk_cache import locked
@@ -76,6 +86,7 @@ class LawKernel:
             function.__qualname__ = f"{f.__qualname__}__{law.fingerprint}"
             function.__module__ = f.__module__
             function.__doc__ = f.__doc__
+            _LAW_FINGERPRINTS.add(law.fingerprint)
             compiled = njit(**self.options)(function)
             self._compiled[law.fingerprint] = compiled
             if self.options.get("cache"):
@@ -111,6 +122,52 @@ def blamed_on_law(law, dispatcher):
 
 
 _CALLED = {}
+_LAW_FINGERPRINTS = set()   # the laws whose functions are compiled self-contained
+
+
+def _self_contained(optimize):
+    """numba's CPUCodeLibrary._optimize_final_module, first giving a law kernel's linked-in
+    functions names of its own (see ``self_contained_law_kernels``)."""
+    def run(library):
+        if library.name.rpartition("__")[2] in _LAW_FINGERPRINTS:
+            functions = list(library._final_module.functions)
+            own = sorted(f.name for f in functions
+                         if not f.is_declaration and f.linkage == Linkage.external)
+            suffix = hashlib.sha1("\n".join(own).encode()).hexdigest()[:16]
+            for function in functions:
+                if not function.is_declaration and function.linkage == Linkage.linkonce_odr:
+                    function.name = f"{function.name}.in.{suffix}"
+        return optimize(library)
+    run.vibrofric = True
+    return run
+
+
+def self_contained_law_kernels():
+    """Make every law kernel's machine code self-contained: the same bits whether the
+    functions it calls were compiled in this process or loaded from numba's cache.
+
+    numba links the functions a function calls into its LLVM module as "linkonce_odr"
+    copies, optimized there, where LLVM inlines them or keeps them as calls. A call kept
+    is resolved when the machine code is loaded, by the copy's name: to the callee's
+    own, separately compiled code if that is already loaded in the process (it is when
+    the caller was compiled in it: compiling the caller compiled or loaded the callee
+    first), else to the caller's copy (a caller loaded from the cache). Under
+    fastmath's "contract" the two may fuse multiplies and adds differently: a new
+    law's implicit run differed by 1.5e-12 of F_d between its first run and the next
+    (docs/first-answer.md). Renamed for the caller (a name no other compiled function
+    has: its own functions' names hashed) before LLVM optimizes the module, a kernel's
+    copies are always the ones it calls, and its code is the same whichever way its
+    callees came. LLVM's inlining decisions are unchanged (the copies keep their
+    linkage).
+    """
+    from numba.core.codegen import CPUCodeLibrary
+
+    if not getattr(CPUCodeLibrary._optimize_final_module, "vibrofric", False):
+        CPUCodeLibrary._optimize_final_module = _self_contained(
+            CPUCodeLibrary._optimize_final_module)
+
+
+self_contained_law_kernels()
 
 
 def _called(law, name: str):

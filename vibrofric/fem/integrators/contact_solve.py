@@ -5,7 +5,10 @@ docs/fe-model.md, "The implicit integrators", explains why it converges).
 
 This is the part of an implicit step that calls the friction law, compiled
 for each law (friction_law/specialize.py); the rest of the step is compiled
-once for all laws (generalized_alpha.py, energy.py, implicit.py).
+once for all laws (generalized_alpha.py, energy.py, implicit.py), and so is
+the Newton step's linear algebra (newton_on_subset). Each function here is
+compiled on its own and linked into its callers (none is inlined by numba,
+which would type it afresh at each call site: docs/first-answer.md).
 
 Each node's contact over the step is the VFRIC analogue (contact.node_contact,
 the same per-node update as explicit.py) on implicit_substeps(scene)
@@ -138,7 +141,7 @@ def still_substeps(scene) -> int:
     return min(implicit_substeps(scene), max(1, math.ceil(scene.time.dt / resting - 1e-9)))
 
 
-@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, contact_dofs, u0c,
                     penalty_share, area_share, params, dt, c_v, beta, states, state):
     """Contact node c over the step, ending at the trial displacements (qx, qy, qz).
@@ -171,7 +174,7 @@ def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, con
     return n_i, f_x, f_y
 
 
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _contact_g(c, n_i, f_x, f_y, qx, qy, qz, tangent, assumed):
     """g_c = f_c + l q_c of node c from its forces (N, F_x, F_y) at (qx, qy, qz):
     the friction acts on the body as -F, and g_z has l only where A holds it."""
@@ -238,7 +241,6 @@ def newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, sc
             nodes += 1
     if nodes == 0:
         return
-    m = 3 * nodes
     tangents = np.empty((nodes, 3, 3))    # tangents[b, :, k] = dg_c / dq_(c,k)
     for b in range(nodes):
         c = subset[b]
@@ -261,6 +263,15 @@ def newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, sc
             g_c = _contact_g(c, n_i, f_x, f_y, x, y, z, tangent, assumed)
             for r in range(3):
                 tangents[b, r, k] = (g_c[r] - g[3 * c + r]) / steps[k]
+    newton_on_subset(rho, delta, G, subset, nodes, tangents, af1, jac)
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def newton_on_subset(rho, delta, G, subset, nodes, tangents, af1, jac):
+    """The Newton part of newton_correction, compiled once for all laws: with the
+    critical nodes subset[:nodes] and their tangents J_c (tangents[b, :, k] = dg_c/dq_(c,k)),
+    solve (I - (1 - af) G_SS J_SS) d_S = -rho_S and add (1 - af) G_:S J_SS d_S to delta."""
+    m = 3 * nodes
     small = np.empty((m, m))
     rhs = np.empty(m)
     for a in range(m):
@@ -353,11 +364,7 @@ def base_over_substeps(t, dt, u_base, amplitude, omega, t_on, cos_theta, sin_the
         u_prev = u_j
 
 
-# Inlined into implicit_steps by numba (both are compiled for each law, so this costs no
-# compile time): as a function of its own, the loop it ran in rounded differently when
-# loaded from numba's cache than when compiled in the same process (by ~1e-11 of
-# F_d), and neither as the loop written in one piece before.
-@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, states, g_prev,
                     work):
     """The contact-space fixed point of one step, from the last step's g (g_prev).
@@ -400,7 +407,8 @@ def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, 
             drive_now, scheme, states, work)
         if residual < best:
             best = residual
-            qc_best[:] = qc
+            for p in range(nc):     # (element by element: a slice copy compiles numba's
+                qc_best[p] = qc[p]  # shape-mismatch message into every law's loop)
             x_a_best = x_a
         if newton and residual >= residual_old and factor > MIN_STEP:
             # No progress (a Newton step across a contact kink): halve it.
@@ -429,7 +437,8 @@ def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, 
     if best > tolerance * STALL_FACTOR:
         return NOT_CONVERGED, iterations, f_d, f_hold, f_n, f_x, f_y
     # Stalled on a node's contact kink, within the looser tolerance: take the best iterate.
-    qc[:] = qc_best
+    for p in range(nc):
+        qc[p] = qc_best[p]
     f_d, f_hold, f_n, f_x, f_y, residual, x_a_new = contact_residual(
         qc, x_a_best, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
         drive_now, scheme, states, work)

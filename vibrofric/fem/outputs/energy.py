@@ -106,9 +106,7 @@ def stored(q, v, mass_v, stiffness_q, contact_dofs, u0_z, normal0, penalty_share
     return kinetic, elastic + 0.5 * f_d * f_d / k_d
 
 
-# Inlined by numba into the implicit loop that calls it: as a function of its own, its
-# D_damp rounded differently from the loop written in one piece before (by 2e-16).
-@njit(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def add_damping_and_drive_work(q_old, q_new, stiffness, beta, dt, t, f_d, f_d_old, alpha_f,
                                v_d, prescribed, dq, k_dq, sums):
     """Add one step's Rayleigh dissipation beta dq^T K dq / dt and the drive's work
