@@ -7,8 +7,9 @@ ParaView frame's: fem/outputs/paraview.py), which the command sends to its plot
 process (plot_worker.py, kind "fe"), so it is drawn beside the plots with the
 library already loaded there and without reading the frame back.
 
-The job (``picture_rows``) holds only what the picture draws: the nodes'
-coordinates, the contact nodes' pressure and friction traction, and the time.
+The job (``picture_rows``) holds only what the picture draws: the block's
+bounding box, the contact nodes' positions, pressure and friction traction, and
+the time.
 """
 
 import numpy as np
@@ -27,9 +28,10 @@ def picture_rows(fields: dict) -> dict:
     """What the picture draws of an FE run's last step: ``fields`` as FEResult.fields
     (node fields, "coordinates", "contact_nodes", "t"), reduced to plain arrays."""
     contact = fields["contact_nodes"]
+    points = np.asarray(fields["coordinates"])
     return {"t": float(fields["t"]),
-            "coordinates": np.asarray(fields["coordinates"]),
-            "contact": np.asarray(fields["coordinates"])[contact],
+            "box": (points.min(axis=0), points.max(axis=0)),
+            "contact": points[contact],
             "pressure": np.asarray(fields["contact_pressure"])[contact],
             "traction": np.asarray(fields["friction_traction"])[contact, :2]}
 
@@ -55,9 +57,8 @@ def draw(rows: dict, png_path) -> None:
     from matplotlib.tri import Triangulation, UniformTriRefiner
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    points, contact = rows["coordinates"], rows["contact"]
+    (low, high), contact = rows["box"], rows["contact"]
     pressure, traction = rows["pressure"], rows["traction"]
-    low, high = points.min(axis=0), points.max(axis=0)
     face_z = low[2]
 
     fig = Figure(figsize=SIZE_IN, dpi=DPI)
