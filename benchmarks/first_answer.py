@@ -7,6 +7,8 @@ From empty caches (numba's and vibrofric's, both pointed at a new directory):
     analytic        vibrofric analytic scenes/longitudinal.toml, the first after set-up
     demo            make demo's command: vibrofric run scenes/longitudinal.toml --set time.T=0.3
     fig7 reduced    vibrofric run ... fem.integrator=reduced, time.dt=1e-5, T=0.3: first, repeat
+                    (time.method as the scene's default: auto, the steady cycle shot for where
+                    it converges); then the same stepped through T (time.method=transient)
     user law        examples/laws/maxwell_slip.py with a constant changed, its first FE run
                     (maxwell_slip.toml, time.T=0.3) and the repeat; then with the reduced
                     integrator (time.dt=1e-5), a law edited once more: its first run compiles
@@ -16,8 +18,14 @@ Each line gives the goal where docs/first-answer.md sets one (GOALS, whole
 command, seconds).
 
     python benchmarks/first_answer.py
+    python benchmarks/first_answer.py --fig7 5    # only the Fig 7 repeat, 5 times each form
+
+With ``--fig7 N`` there is no warm-up: a first run of each form compiles what it
+needs (not timed), then the two forms (the scene's time.method, and transient)
+run N times in turn, each line with the load average at its start.
 """
 
+import argparse
 import os
 import subprocess
 import sys
@@ -27,9 +35,11 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 FIG7 = ["--set", "fem.integrator=reduced", "--set", "time.dt=1e-5", "--set", "time.T=0.3"]
+TRANSIENT = ["--set", "time.method=transient"]
 # The targets (docs/first-answer.md), whole commands in seconds.
 GOALS = {"analytic, first": 0.5, "demo, first": 10.0, "fig7 reduced, repeat": 1.0,
-         "user law FE run, first": 10.0, "user law reduced, first": 10.0}
+         "user law FE run, first": 10.0,
+         "user law reduced, first": 10.0}
 
 
 def timed(label: str, args, env, cwd=ROOT) -> float:
@@ -41,12 +51,29 @@ def timed(label: str, args, env, cwd=ROOT) -> float:
         raise SystemExit(f"{label} failed:\n{done.stderr}")
     said = [line for line in done.stderr.splitlines() if "compiling" in line]
     goal = f"goal <= {GOALS[label]:g} s" if label in GOALS else ""
-    print(f"{label:28s} {seconds:7.2f} s  {goal:16s}" + (f" ({'; '.join(said)})" if said else ""),
+    print(f"{label:30s} {seconds:7.2f} s  {goal:16s}" + (f" ({'; '.join(said)})" if said else ""),
           flush=True)
     return seconds
 
 
+def fig7_repeats(times: int, cli, out, env) -> None:
+    """The Fig 7 reduced repeat, as the scene sets time.method and stepped, in turn,
+    ``times`` times each."""
+    forms = {"fig7 reduced, repeat": FIG7, "fig7 reduced transient, repeat": [*FIG7, *TRANSIENT]}
+    for settings in forms.values():   # compiles what the form needs, not timed
+        subprocess.run([sys.executable, *cli, "run", "scenes/longitudinal.toml", *settings, *out],
+                       env=env, cwd=ROOT, capture_output=True, check=True)
+    for _ in range(times):
+        for label, settings in forms.items():
+            print(f"load {os.getloadavg()[0]:5.2f}  ", end="")
+            timed(label, [*cli, "run", "scenes/longitudinal.toml", *settings, *out], env)
+
+
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--fig7", type=int, metavar="N",
+                        help="only the Fig 7 reduced repeat, N times each form, no warm-up")
+    args = parser.parse_args()
     cpu = next((line.split(":", 1)[1].strip() for line in
                 Path("/proc/cpuinfo").read_text().splitlines() if line.startswith("model name")),
                "unknown")
@@ -61,6 +88,10 @@ def main() -> None:
                         "block_mesh_file()"], env=env, cwd=ROOT, check=True)
         cli = ["-m", "vibrofric.cli"]
         out = ["--out", str(scratch / "out"), "--force"]
+        if args.fig7:
+            fig7_repeats(args.fig7, cli, out, env)
+            print(f"load average after: {os.getloadavg()[0]:.2f}")
+            return
         if (ROOT / "vibrofric" / "warm.py").exists():
             timed("warm (make setup)", ["-m", "vibrofric.warm"], env)
         timed("analytic, first", [*cli, "analytic", "scenes/longitudinal.toml", *out], env)
@@ -71,6 +102,9 @@ def main() -> None:
                                *out], env)
         timed("fig7 reduced, first", [*cli, "run", "scenes/longitudinal.toml", *FIG7, *out], env)
         timed("fig7 reduced, repeat", [*cli, "run", "scenes/longitudinal.toml", *FIG7, *out], env)
+        stepped = [*cli, "run", "scenes/longitudinal.toml", *FIG7, *TRANSIENT, *out]
+        timed("fig7 reduced transient, first", stepped, env)
+        timed("fig7 reduced transient, repeat", stepped, env)
         law = (ROOT / "examples" / "laws" / "maxwell_slip.py").read_text()
         edited = law.replace("ELEMENTS = 4", "ELEMENTS = 3", 1)
         assert edited != law

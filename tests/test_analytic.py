@@ -27,8 +27,9 @@ def test_coupled_at_theta_zero_agrees_with_the_1d_longitudinal_model(load_scene,
 
 
 def test_coupled_stepper_converges_in_dt(load_scene):
-    """Semi-implicit Euler with the exact Dahl update: first order in dt."""
-    scene = load_scene("longitudinal", time__T=0.25, time__average_cycles=40)
+    """Semi-implicit Euler with the exact Dahl update: first order in dt (the stepped run)."""
+    scene = load_scene("longitudinal", time__T=0.25, time__average_cycles=40,
+                       time__method="transient")
     reference = ratio(scene.with_values({"time.dt": 1.25e-7}))
     errors = [abs(ratio(scene.with_values({"time.dt": dt})) - reference) for dt in (2e-6, 1e-6, 5e-7)]
     orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
@@ -91,13 +92,17 @@ def test_longitudinal_gives_the_greatest_reduction(fig12):
 
 def test_symmetry_of_the_angle_dependence(fig12):
     for k_v in FIG12_KV:
-        # 360 - theta mirrors Y: exact up to rounding; 180 - theta is a half-period
-        # shift of the vibration, equal once averaged (measured gap ~1e-9)
-        assert fig12[(k_v, 330.0)] == pytest.approx(fig12[(k_v, 30.0)], rel=1e-9)
-        assert fig12[(k_v, 150.0)] == pytest.approx(fig12[(k_v, 30.0)], rel=1e-6)
-        assert fig12[(k_v, 120.0)] == pytest.approx(fig12[(k_v, 60.0)], rel=1e-6)
-        assert fig12[(k_v, 180.0)] == pytest.approx(fig12[(k_v, 0.0)], rel=1e-6)
-        assert fig12[(k_v, 210.0)] == pytest.approx(fig12[(k_v, 150.0)], rel=1e-9)
+        # 360 - theta mirrors Y: exact up to rounding (the orbits' Newton tolerance);
+        # 180 - theta is a half-period shift of the vibration and a mirror, equal once
+        # averaged over many cycles (the stepped runs' gap ~1e-9). The orbit is shot at
+        # 333 steps a cycle (3 kHz: 1/(f dt) made whole), an odd number: the half-period
+        # shift is not one of the discrete stepper's and its first-order error, locked to
+        # the base's phase, differs between the two by up to 1.7e-3 (k_v = 20, 0 and 180 deg)
+        assert fig12[(k_v, 330.0)] == pytest.approx(fig12[(k_v, 30.0)], rel=1e-8)
+        assert fig12[(k_v, 150.0)] == pytest.approx(fig12[(k_v, 30.0)], rel=3e-3)
+        assert fig12[(k_v, 120.0)] == pytest.approx(fig12[(k_v, 60.0)], rel=3e-3)
+        assert fig12[(k_v, 180.0)] == pytest.approx(fig12[(k_v, 0.0)], rel=3e-3)
+        assert fig12[(k_v, 210.0)] == pytest.approx(fig12[(k_v, 150.0)], rel=1e-8)
 
 
 def test_closed_form_agrees_with_its_longitudinal_special_case():
@@ -117,7 +122,8 @@ def rigid_contact(scene, k_v, update):
     return scene.with_values({
         "drive.mode": "velocity", "vibration.k_v": k_v, "vibration.t_on": 0.0,
         "contact.k_t": 1200 * scene.F_c / u0, "contact.update": update,
-        "time.T": 6 / f, "time.dt": 1 / (320_000 * f), "time.average_cycles": 4})
+        "time.T": 6 / f, "time.dt": 1 / (320_000 * f), "time.average_cycles": 4,
+        "time.method": "transient"})
 
 
 @pytest.mark.parametrize("update", ["paper", "exact"])
@@ -142,7 +148,7 @@ def test_wall_time_is_the_stepping_alone(load_scene, monkeypatch):
     """The compiled loop is loaded (numba's cache) before the clock starts."""
     from vibrofric.analytic import solve as solve_module
 
-    scene = load_scene("longitudinal", time__T=0.2)
+    scene = load_scene("longitudinal", time__T=0.2, time__method="transient")
     events = []
     load, step = solve_module.LOADERS["coupled"], solve_module.STEPPERS["coupled"]
     monkeypatch.setitem(solve_module.LOADERS, "coupled",

@@ -89,12 +89,13 @@ def test_analytic_equals_the_command(tmp_path, capsys):
     for name in ("scene.toml", "timeseries.csv"):
         assert (out_api / name).read_bytes() == (out_cli / name).read_bytes(), name
     assert {p.name for p in out_api.iterdir()} == {p.name for p in out_cli.iterdir()}
-    # the DataFrame holds every kept row (more than the file's), its last row the run's end
+    # the DataFrame holds every kept row (a stepped run: more than the file's; a periodic
+    # answer: the steady cycles, all written), its last row the run's end
     table = result.timeseries
     assert list(table.columns) == ["t", "F_d", "F_x", "F_y", "x", "y", "x_b", "y_b"]
     last_written = (out_cli / "timeseries.csv").read_text().splitlines()[-1].split(",")
     assert table.iloc[-1].tolist() == [float(v) for v in last_written]
-    assert len(table) > len((out_cli / "timeseries.csv").read_text().splitlines()) - 1
+    assert len(table) >= len((out_cli / "timeseries.csv").read_text().splitlines()) - 1
 
 
 def test_analytic_refuses_like_the_command(tmp_path):
@@ -123,7 +124,10 @@ def test_sweep_to_disk_resumes(tmp_path):
     again = vf.sweep(scene, {"vibration.k_v": [2, 6]}, out=tmp_path / "s", workers=1)
     assert again["F_dv_over_F_d0"].tolist() == first["F_dv_over_F_d0"].tolist()
     in_memory = vf.sweep(scene, {"vibration.k_v": [2, 6]}, workers=1)
-    assert in_memory["F_dv_over_F_d0"].tolist() == first["F_dv_over_F_d0"].tolist()
+    # each point's orbit, shot from its neighbour's by either path, to the Newton
+    # tolerance (1e-10 of each unknown's size; measured 4e-11 apart)
+    assert in_memory["F_dv_over_F_d0"].tolist() == pytest.approx(
+        first["F_dv_over_F_d0"].tolist(), rel=1e-9)
 
 
 def test_only_the_command_imports_the_api():

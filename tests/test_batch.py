@@ -18,7 +18,11 @@ from vibrofric.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_POINTS_FAILED, 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SCENE = str(ROOT / "scenes" / "longitudinal.toml")
 # The tiny mesh (24 DOFs) to 0.16 s, no ParaView frames: an FE point in ~0.3 s once warm.
-TINY_FE = ["--set", "time.T=0.16", "--set", "fem.mesh=tiny", "--set", "fem.output_every=0"]
+# Stepped (time.method transient): a pool's or the MPI ranks' points equal the serial
+# ones bit for bit. By their orbits they would agree only to the Newton tolerance: a
+# sweep by continuation starts each worker's contiguous run from steady sliding.
+TINY_FE = ["--set", "time.T=0.16", "--set", "fem.mesh=tiny", "--set", "fem.output_every=0",
+           "--set", "time.method=transient"]
 GRID_2X2 = ["--grid", "vibration.k_v=2,6", "--grid", "vibration.theta_deg=0,90"]
 
 
@@ -33,10 +37,10 @@ def analytic_sweep(out, *more):
 def command(args):
     """The vibrofric command in a fresh interpreter, as a user runs it.
 
-    FE sweeps run this way, never in the test process: once DOLFINx is loaded
-    in a process, pyvista's rendering aborts there if VTK was not loaded first
-    (std::bad_alloc in VTK's std::regex), which would take down test_cli's
-    block picture.
+    FE sweeps run this way, never in the test process, which they would leave
+    with DOLFINx and MPI loaded (in which pyvista's rendering, in tests that
+    read the ParaView series back, aborts if VTK was not loaded first:
+    std::bad_alloc in VTK's std::regex).
     """
     return [sys.executable, "-m", "vibrofric.cli", *args]
 
@@ -164,9 +168,11 @@ def processes_running(text) -> list:
 
 
 def test_a_killed_pool_stops_its_workers_and_resumes(tmp_path):
-    def pool_sweep(out):  # ~30 ms a point, 30 points on two workers (and no figure for this grid)
-        return ["sweep", SCENE, "--set", "time.T=0.5", "--grid", "vibration.theta_deg=0:348:30",
-                "--out", str(out), "--workers", "2"]
+    # ~30 ms a point, 30 points on two workers (and no figure for this grid); stepped, so
+    # that the resumed sweep equals the whole one bit for bit (see TINY_FE)
+    def pool_sweep(out):
+        return ["sweep", SCENE, "--set", "time.T=0.5", "--set", "time.method=transient",
+                "--grid", "vibration.theta_deg=0:348:30", "--out", str(out), "--workers", "2"]
 
     out = tmp_path / "killed"
     kill_after_its_first_point(pool_sweep(out), out)

@@ -183,11 +183,10 @@ def test_coarse_mesh_eigenfrequencies():
 
 def test_frames_from_the_arrays_match_dolfinxs_own(tmp_path, monkeypatch):
     """A ParaView frame as paraview.FrameWriter writes it from the model's arrays
-    (meshio, the cells of ``hexahedra``) against the one DOLFINx's VTKFile writes
+    (VTK XML of its own, the cells of ``hexahedra``) against the one DOLFINx's VTKFile writes
     of the same fields: read back by VTK's reader (ParaView's), the same points,
     the same cells, the same arrays (names, components, values at each point)."""
     pyvista = pytest.importorskip("pyvista")
-    pytest.importorskip("meshio")
     import dolfinx.fem
     import dolfinx.io
 

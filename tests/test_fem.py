@@ -34,8 +34,9 @@ ROOT = Path(__file__).resolve().parents[1]
 LONGITUDINAL = ROOT / "scenes" / "longitudinal.toml"
 TRANSVERSE = ROOT / "scenes" / "transverse.toml"
 
-# A short vibrated run: vibration from 0.5 ms, 2 ms of it (8 cycles at 4 kHz).
-SHORT = ["vibration.t_on=0.0005", "time.T=0.0025", "time.average_cycles=2"]
+# A short vibrated run, stepped: vibration from 0.5 ms, 2 ms of it (8 cycles at 4 kHz).
+SHORT = ["vibration.t_on=0.0005", "time.T=0.0025", "time.average_cycles=2",
+         'time.method="transient"']
 
 
 def load(path, *overrides):
@@ -281,7 +282,8 @@ def test_progress_reports_leave_the_results_bit_identical(integrator, dt, comm):
     recording.PROGRESS_STEPS steps; the loops keep their whole state in arrays,
     so the results must not change by a bit. The reports rise to time.T."""
     scene = load(LONGITUDINAL, "vibration.t_on=0.005", "time.T=0.012", "time.average_cycles=2",
-                 "fem.output_every=0", f"fem.integrator={integrator!r}", f"time.dt={dt!r}")
+                 "fem.output_every=0", f"fem.integrator={integrator!r}", f"time.dt={dt!r}",
+                 'time.method="transient"')
     reports = []
     quiet = run_fe(scene, comm)
     reported = run_fe(scene, comm, progress=lambda done, total: reports.append((done, total)))
@@ -367,7 +369,7 @@ def test_a_stiff_contacts_free_vibration_is_a_transient_the_same_in_dt(comm, tmp
     swings = []
     for dt in (1e-6, 5e-7):
         scene = load(TRANSVERSE, "contact.k_t=6.729e9", "vibration.t_on=0.002", "time.T=0.02",
-                     "time.average_cycles=45", f"time.dt={dt}")
+                     "time.average_cycles=45", f"time.dt={dt}", 'time.method="transient"')
         if dt == 1e-6:      # as vibrofric run reports it: unsettled, saying why
             done = fe_beside_analytic(scene, tmp_path, comm)
             fe, summary = done.fe, done.document["fe"]

@@ -98,9 +98,10 @@ def model_cache_dir(monkeypatch, tmp_path):
 
 
 def _short_scene(load_scene, integrator, dt):
+    """8 cycles of vibration, stepped (time.method transient)."""
     return load_scene("longitudinal", vibration__t_on=0.0005, time__T=0.0025,
                       time__average_cycles=2, time__dt=dt, fem__integrator=integrator,
-                      fem__output_every=0)
+                      fem__output_every=0, time__method="transient")
 
 
 def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene, monkeypatch):
@@ -184,7 +185,7 @@ def test_results_are_bit_identical_with_and_without_the_cache(model_cache_dir, l
 
 def test_frames_from_a_cached_model_need_no_dolfinx(model_cache_dir, load_scene, tmp_path):
     """A repeat run writes its ParaView frames from the cached model's arrays: the
-    same files, byte for byte, with neither DOLFINx, gmsh nor MPI imported."""
+    same files, byte for byte, with neither DOLFINx, gmsh, MPI nor meshio imported."""
     from vibrofric import output
     from vibrofric.fem import run_fe
 
@@ -193,7 +194,8 @@ def test_frames_from_a_cached_model_need_no_dolfinx(model_cache_dir, load_scene,
     output.write_scene(tmp_path, scene)
     code = ("import sys; from vibrofric import scene as s; from vibrofric.fem import run_fe; "
             f"run_fe(s.load({str(tmp_path / 'scene.toml')!r}), vtk_dir={str(tmp_path / 'b')!r}); "
-            "print(sorted(m for m in ('dolfinx', 'gmsh', 'mpi4py', 'petsc4py') if m in sys.modules))")
+            "print(sorted(m for m in ('dolfinx', 'gmsh', 'mpi4py', 'petsc4py', 'meshio') "
+            "if m in sys.modules))")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           env=child_environment(VIBROFRIC_CACHE=str(model_cache_dir.parent)),
                           cwd=ROOT, timeout=600)
@@ -289,20 +291,25 @@ def test_the_loop_reports_its_start_before_any_step(load_scene):
     assert reports[0] == 0.0 and reports.count(0.0) == 1 and reports[-1] > 0.0
 
 
-def test_the_bar_restarts_its_clock_when_the_loop_starts():
+def test_the_bar_is_drawn_when_the_loop_starts_and_restarts_its_clock():
+    """Nothing before the time loop's first report (set-up, compiling, or a shooting for
+    the steady cycle that steps no loop at all); a second start restarts the clock."""
     import argparse
     import time
 
     from vibrofric import cli
 
-    progress, bar = cli._progress_bar(argparse.Namespace(json=False), "FE", 0.3)
+    bar = cli._LoopBar(argparse.Namespace(json=False), "FE", 0.3)
     try:
-        bar.start_t -= 100.0          # as if set-up and compiling had taken 100 s
-        progress(0.0, 0.3)            # the time loop starts
-        assert bar.n == 0 and time.time() - bar.start_t < 100.0
-        progress(0.1, 0.3)
-        progress(30000 * 1e-5, 0.3)   # the last step's time, a rounding past T
-        assert bar.n == bar.total == 0.3
+        assert bar.bar is None
+        bar(0.0, 0.3)                 # the time loop starts
+        assert bar.bar.n == 0
+        bar.bar.start_t -= 100.0      # as if it had run for 100 s
+        bar(0.0, 0.3)                 # and starts again
+        assert bar.bar.n == 0 and time.time() - bar.bar.start_t < 100.0
+        bar(0.1, 0.3)
+        bar(30000 * 1e-5, 0.3)        # the last step's time, a rounding past T
+        assert bar.bar.n == bar.bar.total == 0.3
     finally:
         bar.close()
 
@@ -371,7 +378,8 @@ def test_a_new_law_gives_the_same_bits_compiled_and_loaded_from_the_cache(tmp_pa
     code = ("import sys, numpy as np; from vibrofric import scene as s; "
             "from vibrofric.fem import run_fe; "
             "base = s.load('scenes/longitudinal.toml', ['vibration.t_on=0.01', 'time.T=0.02', "
-            "'time.average_cycles=4', 'fem.output_every=0', 'fem.energy=true']).with_law(sys.argv[1]); "
+            "'time.average_cycles=4', 'fem.output_every=0', 'fem.energy=true', "
+            "'time.method=\"transient\"']).with_law(sys.argv[1]); "
             "np.savez(sys.argv[2], **{i: run_fe(base.with_values({'fem.integrator': i, "
             "'time.dt': 1e-5})).series.table() for i in ('implicit', 'reduced')})")
     for name in ("compiled", "loaded"):

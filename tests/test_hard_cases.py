@@ -74,7 +74,7 @@ def stick_slip(load_scene):
     """LuGre with stiction 1.3 F_c, a slow drive (v_d = 0.1 mm/s) on a soft spring; vibration from 4 s."""
     scene = load_scene("longitudinal", contact__law="lugre", contact__F_s=7.15, contact__v_s=1e-3,
                        drive__v_d=1e-4, drive__k_d=2e4, vibration__t_on=4.0, time__T=8.0,
-                       time__series_dt=1e-4)
+                       time__series_dt=1e-4, time__method="transient")
     return scene, {dt: solve(scene.with_values({"time.dt": dt}))[0] for dt in (1e-6, 5e-7)}
 
 

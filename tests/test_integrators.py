@@ -39,7 +39,9 @@ SHORT = ["vibration.t_on=0.0005", "time.T=0.005", "time.average_cycles=4", "fem.
 
 
 def load(path, *overrides):
-    return scenes.load(path, list(overrides))
+    """The scene stepped through time.T (time.method transient): these tests compare the
+    integrators' time loops (their steady cycles: test_fe_periodic.py)."""
+    return scenes.load(path, ['time.method="transient"', *overrides])
 
 
 def ratio(fe, scene):

@@ -142,10 +142,18 @@ def test_a_period_doubling_orbit_is_reported_and_the_run_stepped(load_scene):
     assert np.max(np.abs(last - before)) > 0.1 * scene.F_c   # not period 1
 
 
-def test_transient_stays_the_default_and_unchanged(load_scene):
+def test_the_default_is_the_steady_cycle_and_transient_steps_through_T(load_scene):
+    """time.method defaults to "auto": the shipped scene is answered by its orbit, which
+    the transient settles to (its F_dv within 1e-3 of the orbit's at T = 1 s: the
+    averaging window's drift, below settle_tolerance); "transient" steps as before,
+    with no periodic block and its breakaway time."""
     scene = load_scene("longitudinal")
-    assert scene.time.method == "transient"
-    assert "periodic" not in solve(scene)[1]
+    assert scene.time.method == "auto"
+    default = solve(scene)[1]
+    assert default["periodic"]["method"] == "periodic" and default["breakaway_time_s"] is None
+    stepped = solve(scene.with_values({"time.method": "transient"}))[1]
+    assert "periodic" not in stepped and stepped["breakaway_time_s"] > 0.0
+    assert default["F_dv_over_F_d0"] == pytest.approx(stepped["F_dv_over_F_d0"], rel=1e-3)
 
 
 def test_an_unknown_method_is_refused(load_scene):

@@ -224,27 +224,37 @@ def cmd_analytic(args) -> None:
           f"results in {target}")
 
 
-def _progress_bar(args, what: str, total: float):
-    """A tqdm bar over simulated seconds on stderr, as a progress(t_done, t_total)
-    callable and the bar; quiet with --json when stderr is not a terminal, and
-    redrawn every 10 s rather than 0.5 s into a log file. A report of 0 done (the
-    time loop starting, its code compiled: recording.run_in_chunks) restarts its
-    clock, so that the rate and the time left are the loop's alone."""
-    from tqdm import tqdm
+class _LoopBar:
+    """A tqdm bar over simulated seconds on stderr for an FE time loop, called as
+    progress(t_done, t_total); quiet with --json when stderr is not a terminal, and
+    redrawn every 10 s rather than 0.5 s into a log file. Drawn from the loop's first
+    report (of 0 done: the loop starting, its code compiled: recording.run_in_chunks),
+    so its rate and time left are the loop's alone, and a run answered by its steady
+    cycle (time.method auto or periodic), which steps no time loop, shows none; a
+    second report of 0 done restarts its clock."""
 
-    terminal = sys.stderr.isatty()
-    bar = tqdm(desc=what, total=total, unit="s", disable=args.json and not terminal,
-               file=sys.stderr, mininterval=0.5 if terminal else 10.0,
-               bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} s simulated "
-                          "[{elapsed}<{remaining}]")
+    def __init__(self, args, what: str, total: float):
+        self.what, self.total = what, total
+        self.quiet = args.json and not sys.stderr.isatty()
+        self.bar = None
 
-    def progress(done: float, total: float) -> None:
+    def __call__(self, done: float, total: float) -> None:
+        if self.bar is None:
+            from tqdm import tqdm
+
+            terminal = sys.stderr.isatty()
+            self.bar = tqdm(desc=self.what, total=self.total, unit="s", disable=self.quiet,
+                            file=sys.stderr, mininterval=0.5 if terminal else 10.0,
+                            bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} "
+                                       "s simulated [{elapsed}<{remaining}]")
         if done == 0:
-            bar.reset()
-        else:
-            bar.update(min(done, bar.total) - bar.n)  # the last step may pass T by a rounding
+            self.bar.reset()
+        else:   # the last step may pass T by a rounding
+            self.bar.update(min(done, self.bar.total) - self.bar.n)
 
-    return progress, bar
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
 
 
 def _announce(line) -> None:
@@ -263,10 +273,10 @@ def cmd_run(args) -> None:
     _announce(budget.long_run_notice(budget.check([scene], fe=True, out=target or Path("results"),
                                                   full_series=args.full_series)))
     target = target or output.default_dir(scene.name)
-    progress, bar = _progress_bar(args, "FE", scene.time.T)
+    bar = _LoopBar(args, "FE", scene.time.T)
     with output.staged(target, "run", claimed=claim) as stage:
         try:
-            document, _ = write_fe_run(scene, stage, progress, args.full_series, out=str(target))
+            document, _ = write_fe_run(scene, stage, bar, args.full_series, out=str(target))
         finally:
             bar.close()
     fe, analytic = document["fe"], document["analytic"]

@@ -31,7 +31,6 @@ import shutil
 import signal
 import sys
 import traceback
-import uuid
 from pathlib import Path
 
 from .parallel import stop_if_interrupted
@@ -238,7 +237,7 @@ def _partial(target: Path, kind: str = "", suffix: str = "") -> Path:
     """A fresh partial name beside ``target``. Created by the caller with mkdir or
     open, which respect the umask (tempfile's 0700 / 0600 would hide results
     from the rest of a cluster group)."""
-    return target.with_name(f".{target.name}{PARTIAL}{kind}{os.getpid()}-{uuid.uuid4().hex[:8]}{suffix}")
+    return target.with_name(f".{target.name}{PARTIAL}{kind}{os.getpid()}-{os.urandom(4).hex()}{suffix}")
 
 
 def remove_partials(directory: Path) -> None:

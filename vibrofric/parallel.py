@@ -11,11 +11,9 @@ results with output.staged().
 
 import contextlib
 import ctypes
-import multiprocessing
 import os
 import signal
 import sys
-from concurrent.futures import ProcessPoolExecutor, as_completed
 
 _received = None  # the signal that arrived within interruptible(), by name
 
@@ -101,6 +99,9 @@ def run_on_pool(function, tasks, workers: int, on_result) -> None:
 
     An exception from a task, or an interrupt, ends the whole pool.
     """
+    import multiprocessing  # here: every command imports this module, few start a pool
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(_start_method()),
                                initializer=_worker_start, initargs=(os.getpid(),))
     try:

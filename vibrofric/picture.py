@@ -7,8 +7,9 @@ ParaView frame's: fem/outputs/paraview.py), which the command sends to its plot
 process (plot_worker.py, kind "fe"), so it is drawn beside the plots with the
 library already loaded there and without reading the frame back.
 
-The job (``picture_rows``) holds only what the picture draws: the nodes'
-coordinates, the contact nodes' pressure and friction traction, and the time.
+The job (``picture_rows``) holds only what the picture draws: the block's
+bounding box, the contact nodes' positions, pressure and friction traction, and
+the time.
 """
 
 import numpy as np
@@ -19,6 +20,7 @@ PNG = {"dpi": DPI, "pil_kwargs": {"compress_level": 1}}  # as plots.RUN_PNG
 # Seen from below, in front of the drive: the view direction (0.8, -1.2, -0.9) as
 # matplotlib's elevation and azimuth, degrees.
 VIEW = {"elev": -31.6, "azim": -56.3}
+COLOUR_BAR = (0.78, 0.2, 0.03, 0.56)   # left, bottom, width, height: fractions of the figure
 SUBDIVISIONS = 1  # each triangle of the contact face split in 4^SUBDIVISIONS, the pressure
                   # interpolated linearly over them: a smooth map without shading support
 
@@ -27,9 +29,10 @@ def picture_rows(fields: dict) -> dict:
     """What the picture draws of an FE run's last step: ``fields`` as FEResult.fields
     (node fields, "coordinates", "contact_nodes", "t"), reduced to plain arrays."""
     contact = fields["contact_nodes"]
+    points = np.asarray(fields["coordinates"])
     return {"t": float(fields["t"]),
-            "coordinates": np.asarray(fields["coordinates"]),
-            "contact": np.asarray(fields["coordinates"])[contact],
+            "box": (points.min(axis=0), points.max(axis=0)),
+            "contact": points[contact],
             "pressure": np.asarray(fields["contact_pressure"])[contact],
             "traction": np.asarray(fields["friction_traction"])[contact, :2]}
 
@@ -55,14 +58,13 @@ def draw(rows: dict, png_path) -> None:
     from matplotlib.tri import Triangulation, UniformTriRefiner
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-    points, contact = rows["coordinates"], rows["contact"]
+    (low, high), contact = rows["box"], rows["contact"]
     pressure, traction = rows["pressure"], rows["traction"]
-    low, high = points.min(axis=0), points.max(axis=0)
     face_z = low[2]
 
     fig = Figure(figsize=SIZE_IN, dpi=DPI)
     FigureCanvasAgg(fig)
-    ax = fig.add_subplot(projection="3d", computed_zorder=False)
+    ax = fig.add_axes((0.0, 0.0, 0.78, 0.95), projection="3d", computed_zorder=False)
     ax.add_collection3d(Poly3DCollection(_box_faces(low, high), facecolor=(0.83, 0.83, 0.83, 0.2),
                                          edgecolor="black", linewidth=0.6))
 
@@ -92,7 +94,8 @@ def draw(rows: dict, png_path) -> None:
     ax.set_box_aspect(upper - lower)
     ax.view_init(**VIEW)
     ax.set_axis_off()
-    fig.colorbar(cm.ScalarMappable(norm, cm.viridis), ax=ax, shrink=0.7, format="%.3g",
+    # the colour bar in axes of its own at the right (no re-layout of the 3D axes)
+    fig.colorbar(cm.ScalarMappable(norm, cm.viridis), cax=fig.add_axes(COLOUR_BAR), format="%.3g",
                  label="contact pressure (Pa)")
     fig.suptitle(f"t = {rows['t']:.4g} s: contact pressure, friction traction (arrows)",
                  fontsize=10)

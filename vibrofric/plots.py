@@ -36,16 +36,22 @@ def figure(figsize, dpi=None):
 
 def drive_force_figure(runs: dict, scene):
     """F_d over the whole run (Fig 7 / Fig 10 analogue); ``runs`` maps a label to
-    a TimeSeries (or anything with ``t`` and ``F_d``)."""
+    a TimeSeries (or anything with ``t`` and ``F_d``). Where no run reaches back to the
+    vibration's start (each answered by its steady cycle, whose series is a few cycles
+    ending at time.T), the steady cycles alone at their own scale, so titled."""
     fig, ax = figure((7, 4), RUN_DPI)
     for label, series in runs.items():
         ax.plot(series.t, series.F_d, lw=0.8, label=label)
-    ax.axhline(scene.F_c, color="k", ls=":", lw=0.8, label=r"$F_c = \mu F_N$")
-    if scene.vibrated:
-        ax.axvline(scene.vibration.t_on, color="grey", ls="--", lw=0.8, label="vibration on")
+    stepped = not scene.vibrated or any(series.t[0] <= scene.vibration.t_on
+                                        for series in runs.values())
+    if stepped:
+        ax.axhline(scene.F_c, color="k", ls=":", lw=0.8, label=r"$F_c = \mu F_N$")
+        if scene.vibrated:
+            ax.axvline(scene.vibration.t_on, color="grey", ls="--", lw=0.8, label="vibration on")
     ax.set(xlabel="time t (s)", ylabel="drive force $F_d$ (N)",
            title=f"{scene.name}: $k_v$ = {scene.vibration.k_v:g}, "
-                 rf"$\theta$ = {scene.vibration.theta_deg:g}°")
+                 rf"$\theta$ = {scene.vibration.theta_deg:g}°"
+                 + ("" if stepped else ", the steady cycle"))
     ax.legend(fontsize=8)
     fig.subplots_adjust(**RUN_MARGINS)
     return fig

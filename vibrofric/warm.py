@@ -2,7 +2,8 @@
 
 numba compiles every time loop for each friction law (friction_law/specialize.py)
 and keeps what it compiled on disk. This runs a few steps of the Fig 7 scene
-with each built-in law through each stepper and integrator, so that numba's
+with each built-in law through each stepper and integrator, shot for its steady
+cycle and stepped (METHODS), so that numba's
 cache holds every built-in law's loops and the model cache (fem/model/model_cache.py)
 the default block: the first ``vibrofric run`` or ``analytic`` after
 ``make setup`` (which runs this) compiles nothing. A user's law still
@@ -15,6 +16,7 @@ and logging every C compiler command line) is kept off the terminal, as in
 every ``vibrofric`` command (cli.py).
 """
 
+import itertools
 import sys
 
 from .friction_law.contract import BUILT_IN
@@ -32,6 +34,9 @@ SCENE = {
 }
 INTEGRATORS = {"explicit": 1e-6, "implicit": 1e-5, "reduced": 1e-5}   # with their time.dt
 STEPPERS = {"coupled": tuple(BUILT_IN), "longitudinal": ("dahl",)}   # longitudinal: Dahl's [23]
+# The steady cycle's shooting (the default, "auto") and the stepped run (its fallback, and
+# "transient"): each compiles its own loops.
+METHODS = ("periodic", "transient")
 
 
 def warm(fe: bool = True) -> None:
@@ -45,8 +50,9 @@ def warm(fe: bool = True) -> None:
           + ": once, at set-up", file=sys.stderr, flush=True)
     base = scene_module.from_dict(SCENE, "warm")
     with unannounced():
-        for law in BUILT_IN:
-            scene = base if law == "dahl" else base.with_law(law)
+        for law, method in itertools.product(BUILT_IN, METHODS):
+            scene = (base if law == "dahl" else base.with_law(law)).with_values(
+                {"time.method": method})
             for stepper, laws in STEPPERS.items():
                 if law in laws:
                     solve(scene, stepper)

@@ -261,18 +261,22 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
         else:
             A = None          # Broyden's matrix led nowhere: a fresh Jacobian
     converged = norm <= TOLERANCE
+    multipliers = np.empty(0)
     if converged:
         M = phi.jacobian(z, phi_z)   # at the orbit itself: its Floquet multipliers
-        multipliers = np.linalg.eigvals(M)
-        multipliers = multipliers[np.argsort(-np.abs(multipliers))]
+        if np.all(np.isfinite(M)):
+            multipliers = np.linalg.eigvals(M)
+            multipliers = multipliers[np.argsort(-np.abs(multipliers))]
+        else:   # a difference step left the stepper's range: no verdict, so not the answer
+            reason = "the cycle diverged near the orbit: its Floquet multipliers are unknown"
     else:
-        multipliers = np.empty(0)
         reason = reason or f"Newton did not reach {TOLERANCE:g} in {MAX_NEWTON} iterations"
     cycle = np.empty((phi.steps, 8))
     if converged:
         phi(z, cycle)
-    stable = converged and bool(multipliers.size == 0 or np.max(np.abs(multipliers)) < STABLE)
-    if converged and not stable:
+    stable = (converged and not reason
+              and bool(multipliers.size == 0 or np.max(np.abs(multipliers)) < STABLE))
+    if converged and not stable and not reason:
         reason = instability(multipliers, STABLE)
     return Orbit(converged, stable, z, cycle, iterations, phi.cycles, norm, multipliers,
                  phi.dt, phi.steps, perf_counter() - begin, reason,

@@ -118,7 +118,8 @@ def fe_fig7(cases=FE_CASES, T: float = 0.45, tolerance: float = 1e-4) -> list:
     rows = []
     for label, integrator, dt, mesh, more in cases:
         base = scene.with_values({"fem.integrator": integrator, "time.dt": dt, "fem.mesh": mesh,
-                                  "fem.output_every": 0, "time.T": T, **more})
+                                  "fem.output_every": 0, "time.T": T, "time.method": "transient",
+                                  **more})
         periodic = base.with_values({"time.method": "periodic"})
         # started, as `vibrofric run` starts it, from the lumped model's F_dv (its own
         # orbit: a few ms, not counted)

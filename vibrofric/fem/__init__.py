@@ -24,7 +24,7 @@ outputs/      what a run records and reports, step by step and at its end
     trouble      numerical trouble: the per-step checks and their messages
     energy       the energy balance of an implicit run (fem.energy)
     normal_swing the summed normal force judged: steady, rocking, a transient, ringing
-    paraview     the .pvd frame series (meshio, from the model's arrays)
+    paraview     the .pvd frame series (VTK XML, from the model's arrays)
 
 integrators/  the time integrators that step the model, and the periodic solver on them
     registry     the registry fem.integrator selects from, and "auto"

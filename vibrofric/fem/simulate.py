@@ -11,6 +11,7 @@ from ..meshes import level_counts
 from .integrators import periodic, registry
 from .integrators.cycle_map import FECycleMap
 from .model.fe_model import build_model
+from .model.linalg import one_blas_thread
 from .outputs.normal_swing import judge
 from .outputs.paraview import FrameWriter, node_fields
 from .outputs.recording import COLUMNS, extra_columns
@@ -98,10 +99,13 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
         integrator = prepare(shot_scene, model)
         phi = FECycleMap(integrator, model, steps)    # the compiled step loaded
         setup_time = time.perf_counter() - start_time
-        orbit = periodic.find_orbit(phi, start, drive_force)
-        if orbit.converged and orbit.stable:
-            return _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir,
-                                 start_time, setup_time)
+        # BLAS on one thread, as in the time loop (time_loop.TimeLoop.integrate): the
+        # cycles are its steps, with their ~100 x 100 products (linalg.one_blas_thread)
+        with one_blas_thread():
+            orbit = periodic.find_orbit(phi, start, drive_force)
+            if orbit.converged and orbit.stable:
+                return _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir,
+                                     start_time, setup_time)
         if shot_scene is not scene:
             integrator = prepare(scene, model)
     else:

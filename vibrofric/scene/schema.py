@@ -118,10 +118,10 @@ class Time:
     settle_tolerance: float = 0.005        # a result is "settled" when its drive-force mean moved
                                            # by at most this fraction between the last two
                                            # averaging windows (analytic/summary.py)
-    method: str = "transient"              # "transient" (step through T), "periodic" (the
-                                           # steady cycle by shooting: analytic/periodic.py,
-                                           # fem/integrators/periodic.py; stepping where it fails) or
-                                           # "auto" (the same)
+    method: str = "auto"                   # "auto" or "periodic": the steady cycle by shooting
+                                           # (analytic/periodic.py, fem/integrators/periodic.py),
+                                           # stepped through T where it does not converge or is
+                                           # not stable, saying so; "transient": step through T
 
 
 @dataclass(frozen=True)
