@@ -20,6 +20,7 @@ PNG = {"dpi": DPI, "pil_kwargs": {"compress_level": 1}}  # as plots.RUN_PNG
 # Seen from below, in front of the drive: the view direction (0.8, -1.2, -0.9) as
 # matplotlib's elevation and azimuth, degrees.
 VIEW = {"elev": -31.6, "azim": -56.3}
+COLOUR_BAR = (0.78, 0.2, 0.03, 0.56)   # left, bottom, width, height: fractions of the figure
 SUBDIVISIONS = 1  # each triangle of the contact face split in 4^SUBDIVISIONS, the pressure
                   # interpolated linearly over them: a smooth map without shading support
 
@@ -63,7 +64,7 @@ def draw(rows: dict, png_path) -> None:
 
     fig = Figure(figsize=SIZE_IN, dpi=DPI)
     FigureCanvasAgg(fig)
-    ax = fig.add_subplot(projection="3d", computed_zorder=False)
+    ax = fig.add_axes((0.0, 0.0, 0.78, 0.95), projection="3d", computed_zorder=False)
     ax.add_collection3d(Poly3DCollection(_box_faces(low, high), facecolor=(0.83, 0.83, 0.83, 0.2),
                                          edgecolor="black", linewidth=0.6))
 
@@ -93,7 +94,8 @@ def draw(rows: dict, png_path) -> None:
     ax.set_box_aspect(upper - lower)
     ax.view_init(**VIEW)
     ax.set_axis_off()
-    fig.colorbar(cm.ScalarMappable(norm, cm.viridis), ax=ax, shrink=0.7, format="%.3g",
+    # the colour bar in axes of its own at the right (no re-layout of the 3D axes)
+    fig.colorbar(cm.ScalarMappable(norm, cm.viridis), cax=fig.add_axes(COLOUR_BAR), format="%.3g",
                  label="contact pressure (Pa)")
     fig.suptitle(f"t = {rows['t']:.4g} s: contact pressure, friction traction (arrows)",
                  fontsize=10)

@@ -172,7 +172,9 @@ self_contained_law_kernels()
 
 def _called(law, name: str):
     """The law's function ``name`` compiled as a function the loops call (see the module),
-    with the options contract.py compiles it with, less the inlining."""
+    with the options contract.py compiles it with, less the inlining. (forceinline is
+    set so that it is not inherited from the kernel whose compile first types it:
+    contact_solve._node_over_step's.)"""
     key = (law.fingerprint, name)
     if key not in _CALLED:
         function = getattr(law, name)
@@ -180,7 +182,7 @@ def _called(law, name: str):
                    if key in ("error_model", "fastmath", "boundscheck")}
         py_func = getattr(function, "py_func", function)
         _CALLED[key] = njit(cache=True, **{"error_model": "numpy", "fastmath": FASTMATH,
-                                           **options})(py_func)
+                                           "forceinline": False, **options})(py_func)
     return _CALLED[key]
 
 

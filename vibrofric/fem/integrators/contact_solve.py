@@ -8,7 +8,8 @@ for each law (friction_law/specialize.py); the rest of the step is compiled
 once for all laws (generalized_alpha.py, energy.py, implicit.py), and so is
 the Newton step's linear algebra (newton_on_subset). Each function here is
 compiled on its own and linked into its callers (none is inlined by numba,
-which would type it afresh at each call site: docs/first-answer.md).
+which would type it afresh at each call site: docs/first-answer.md; LLVM
+inlines _node_over_step, forceinline, where it is linked).
 
 Each node's contact over the step is the VFRIC analogue (contact.node_contact,
 the same per-node update as explicit.py) on implicit_substeps(scene)
@@ -141,7 +142,7 @@ def still_substeps(scene) -> int:
     return min(implicit_substeps(scene), max(1, math.ceil(scene.time.dt / resting - 1e-9)))
 
 
-@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, forceinline=True)
 def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, contact_dofs, u0c,
                     penalty_share, area_share, params, dt, c_v, beta, states, state):
     """Contact node c over the step, ending at the trial displacements (qx, qy, qz).

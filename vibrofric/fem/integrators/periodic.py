@@ -12,9 +12,10 @@ the drive mode (the block's rigid X translation and velocity on the drive
 spring, the map's slowest: 0.984 a cycle on Fig 7, the reason the stepped
 transient needs ~1000 cycles), plain cycles on the rest, Anderson-accelerated;
 started from steady sliding (the preload moving at v_d, set back by the drive
-spring's stretch under F_d0) after PLAIN_CYCLES plain cycles that bring every
-node's friction law into its vibrated sliding, or from a neighbour's orbit
-(``start``: sweeps). The largest Floquet multipliers: Arnoldi on directional
+spring's stretch under the mean drive force expected: the lumped model's F_dv
+where the caller has it, else F_d0) after PLAIN_CYCLES plain cycles that bring
+every node's friction law into its vibrated sliding (and give the law's state its
+scale: set_law_scale), or from a neighbour's orbit (``start``: sweeps). The largest Floquet multipliers: Arnoldi on directional
 derivatives at the orbit, on the map with its contact iteration converged
 tightly (SMOOTH_ITERATION).
 
@@ -40,7 +41,7 @@ TOLERANCE = 1e-6         # converged: the RMS of the scaled residual (each entry
                          # the coupled scene the residual stalled at 2.9e-7 (the contact
                          # iteration's tolerance inside each step)
 MAX_CYCLES = 400         # cycles the shooting may take before the run is stepped instead
-PLAIN_CYCLES = 3
+PLAIN_CYCLES = 3         # at least 1: the laws' states at rest give them no scale (set_law_scale)
 FD_STEP = 1e-6           # Arnoldi's difference step (scaled): the multipliers agree to 1e-3 for
                          # 1e-5 to 1e-7 on Fig 7 (reduced)
 DECAY_CYCLES = 40        # decay_rate: cycles run from a perturbed orbit, the first DECAY_SKIP
