@@ -157,3 +157,15 @@ def test_an_fe_sweep_continues_from_the_neighbours_orbit_and_says_which_method_r
         float(np.mean(alone.orbit.cycle[:, 1])), rel=1e-6)
     again = _sweep(out, *settings)
     assert again.returncode == 0 and "4 reused" in again.stderr + again.stdout
+
+
+@pytest.mark.slow
+def test_a_shooting_reports_each_cycle_it_runs_to_the_progress_callback():
+    """progress(cycles, None) after every base cycle, counted over the Newton-Picard
+    cycles and the stability check's alike, ending at the summary's cycles_integrated."""
+    reports = []
+    scene = fig7(fem__integrator="reduced", time__dt=STEPS["reduced"], time__method="periodic")
+    fe = run_fe(scene, progress=lambda done, total: reports.append((done, total)))
+    counts = [done for done, total in reports]
+    assert all(total is None for _, total in reports)
+    assert counts == list(range(1, fe.info["periodic"]["cycles_integrated"] + 1))

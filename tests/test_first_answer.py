@@ -314,6 +314,29 @@ def test_the_bar_is_drawn_when_the_loop_starts_and_restarts_its_clock():
         bar.close()
 
 
+def test_a_shooting_shows_its_cycles_without_a_rate_then_a_stepped_fallback_its_bar(capsys):
+    """While the steady cycle is shot for (progress(cycles, None)) the bar counts base
+    cycles, with no total, rate or time left; a run stepped after it (the shooting
+    failed) gets the time loop's bar over simulated seconds."""
+    import argparse
+
+    from vibrofric import cli
+
+    bar = cli._LoopBar(argparse.Namespace(json=False), "FE", 0.3)
+    try:
+        for cycles in range(1, 41):
+            bar(cycles, None)
+        assert bar.counting_cycles and bar.bar.n == 40 and bar.bar.total is None
+        bar.bar.start_t -= 100.0      # shown, as if it had run past CYCLES_SHOWN_AFTER
+        bar(41, None)
+        bar(0.0, 0.3)                 # the shooting failed: the time loop starts
+        assert not bar.counting_cycles and bar.bar.n == 0 and bar.bar.total == 0.3
+    finally:
+        bar.close()
+    shown = capsys.readouterr().err
+    assert "41 base cycles shot" in shown and "it/s" not in shown and "cycle/s" not in shown
+
+
 def test_the_warm_up_keeps_the_compilers_chatter_off_the_terminal():
     """python -m vibrofric.warm's logging (library_logs.quiet_libraries, first thing, as
     in every vibrofric command): a library that logs at INFO (FFCx's basicConfig, then

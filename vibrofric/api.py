@@ -233,7 +233,8 @@ def check_stepper(scene, stepper: str) -> None:
                          "vibrates the base along X only (0 or 180 deg); use --stepper coupled")
 
 
-def write_fe_run(scene: "Scene", stage: Path, progress: Callable[[float, float], None] | None = None,
+def write_fe_run(scene: "Scene", stage: Path,
+                 progress: Callable[[float, float | None], None] | None = None,
                  full_series: bool = False, out: str | None = None):
     """The FE run beside the analytic stepper, written into ``stage`` as
     ``vibrofric run`` writes it (its files, summary.json, plots and the block's
@@ -257,14 +258,15 @@ def write_fe_run(scene: "Scene", stage: Path, progress: Callable[[float, float],
 
 
 def run_fe(scene: "Scene", out: str | Path | None = None, *, force: bool = False,
-       progress: Callable[[float, float], None] | None = None, full_series: bool = False) -> Result:
+       progress: Callable[[float, float | None], None] | None = None, full_series: bool = False) -> Result:
     """Run the scene's finite-element model (DOLFINx) and the analytic stepper beside it.
 
     With ``out`` the results are written there as ``vibrofric run --out``
     writes them, the ParaView series included (a frame every
     fem.output_every steps); without, nothing is kept (no ParaView frames are
     made). ``progress(t_done, t_total)``, if given, is called as the FE time
-    loop advances (simulated seconds). The Result's ``analytic`` is the
+    loop advances (simulated seconds), and as ``progress(cycles, None)`` after
+    each base cycle while the steady cycle is shot for. The Result's ``analytic`` is the
     stepper's run beside it and ``rel_error`` their relative difference.
 
     A short FE run on the tiny mesh (skipped by the docstring check: the FE

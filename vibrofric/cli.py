@@ -225,29 +225,48 @@ def cmd_analytic(args) -> None:
 
 
 class _LoopBar:
-    """A tqdm bar over simulated seconds on stderr for an FE time loop, called as
-    progress(t_done, t_total); quiet with --json when stderr is not a terminal, and
-    redrawn every 10 s rather than 0.5 s into a log file. Drawn from the loop's first
-    report (of 0 done: the loop starting, its code compiled: recording.run_in_chunks),
-    so its rate and time left are the loop's alone, and a run answered by its steady
-    cycle (time.method auto or periodic), which steps no time loop, shows none; a
-    second report of 0 done restarts its clock."""
+    """Progress on stderr for an FE run, called as progress(done, total): a tqdm bar
+    over simulated seconds for the time loop (total: time.T), a count of base cycles
+    while the steady cycle is shot for (total None: time.method auto or periodic);
+    quiet with --json when stderr is not a terminal, and redrawn every 10 s rather
+    than 0.5 s into a log file. The time loop's bar is drawn from its first report
+    (of 0 done: the loop starting, its code compiled: recording.run_in_chunks), so
+    its rate and time left are the loop's alone; a second report of 0 done restarts
+    its clock. The count of cycles shows no rate or time left (the shooting stops when
+    it converges) and only once it has run for CYCLES_SHOWN_AFTER seconds."""
+
+    CYCLES_SHOWN_AFTER = 1.0   # s: a shooting quicker than this shows nothing but its answer
 
     def __init__(self, args, what: str, total: float):
         self.what, self.total = what, total
         self.quiet = args.json and not sys.stderr.isatty()
         self.bar = None
+        self.counting_cycles = False
 
-    def __call__(self, done: float, total: float) -> None:
-        if self.bar is None:
-            from tqdm import tqdm
+    def _open(self, counting_cycles: bool) -> None:
+        from tqdm import tqdm
 
-            terminal = sys.stderr.isatty()
-            self.bar = tqdm(desc=self.what, total=self.total, unit="s", disable=self.quiet,
-                            file=sys.stderr, mininterval=0.5 if terminal else 10.0,
+        if self.bar is not None:
+            self.bar.close()
+        terminal = sys.stderr.isatty()
+        common = dict(disable=self.quiet, file=sys.stderr, mininterval=0.5 if terminal else 10.0)
+        if counting_cycles:
+            self.bar = tqdm(desc=f"{self.what} steady cycle", total=None, unit="cycle",
+                            delay=self.CYCLES_SHOWN_AFTER,
+                            bar_format="{desc}: {n} base cycles shot [{elapsed}]", **common)
+        else:
+            self.bar = tqdm(desc=self.what, total=self.total, unit="s",
                             bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.4g}/{total:.4g} "
-                                       "s simulated [{elapsed}<{remaining}]")
-        if done == 0:
+                                       "s simulated [{elapsed}<{remaining}]", **common)
+        self.counting_cycles = counting_cycles
+
+    def __call__(self, done: float, total: float | None) -> None:
+        counting_cycles = total is None
+        if self.bar is None or counting_cycles != self.counting_cycles:
+            self._open(counting_cycles)
+        if counting_cycles:
+            self.bar.update(done - self.bar.n)
+        elif done == 0:
             self.bar.reset()
         else:   # the last step may pass T by a rounding
             self.bar.update(min(done, self.bar.total) - self.bar.n)

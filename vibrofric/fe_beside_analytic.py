@@ -73,7 +73,7 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     """Run the scene's FE model (on ``comm``, default MPI.COMM_SELF; its ParaView
     frames into ``directory``/paraview if fem.output_every > 0) and the analytic
     stepper (at time.dt <= ANALYTIC_DT); write nothing else.
-    ``progress(t_done_s, t_total_s)``, if given, follows the FE time loop (fem.run_fe);
+    ``progress``, if given, follows the FE time loop or shooting (fem.run_fe);
     ``start``, a neighbour's FE orbit state (time.method periodic or auto: fem.run_fe);
     without it, the FE shooting starts from the analytic stepper's F_dv (run first).
 

@@ -71,7 +71,9 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
              every fem.output_every steps (outputs/paraview.py); a run answered by its
              steady cycle writes periodic.FRAMES_PER_CYCLE + 1 frames of that cycle
     progress if given, called as progress(t_done_s, t_total_s) every few
-             thousand steps of the time loop (simulated seconds)
+             thousand steps of the time loop (simulated seconds), and while the
+             steady cycle is shot for, as progress(cycles, None) after each base
+             cycle (no total: the shooting ends when it converges)
     start    with time.method "periodic" or "auto": a neighbouring point's orbit
              state (FEResult.orbit.z) to shoot from (sweeps: continuation)
     drive_force  with time.method "periodic" or "auto" and no ``start``: the mean
@@ -98,6 +100,8 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
         shot_scene, steps = periodic.periodic_scene(scene)
         integrator = prepare(shot_scene, model)
         phi = FECycleMap(integrator, model, steps)    # the compiled step loaded
+        if progress is not None:
+            phi.on_cycle = lambda cycles: progress(cycles, None)
         setup_time = time.perf_counter() - start_time
         # BLAS on one thread, as in the time loop (time_loop.TimeLoop.integrate): the
         # cycles are its steps, with their ~100 x 100 products (linalg.one_blas_thread)

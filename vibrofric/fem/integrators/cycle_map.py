@@ -79,6 +79,7 @@ class FECycleMap:
         self.scale = self._scales()
         self._neutral_scaled = None
         self.cycles = 0
+        self.on_cycle = None    # if set, called with self.cycles after each cycle (progress)
 
     # -- the packed state --------------------------------------------------------
     def _parts(self) -> list:
@@ -208,6 +209,8 @@ class FECycleMap:
         state after it (NaNs where the stepper failed), and with ``rows`` the cycle's
         recorded rows (recording.columns)."""
         self.cycles += 1
+        if self.on_cycle is not None:
+            self.on_cycle(self.cycles)
         self.load(z_raw)
         t1 = (self.i0 + self.steps) * self.dt
         failed, code, _ = self.started.steps(self.i0 + 1, self.i0 + self.steps)

@@ -174,6 +174,10 @@ def _smooth_map(phi: FECycleMap) -> FECycleMap:
         if tolerance is not None:
             run.iteration_tolerance = tolerance
     smooth.scale = phi.scale
+    if phi.on_cycle is not None:     # both maps report the cycles of both (progress)
+        report = phi.on_cycle
+        smooth.on_cycle = lambda cycles: report(phi.cycles + cycles)
+        phi.on_cycle = lambda cycles: report(cycles + smooth.cycles)
     return smooth
 
 
