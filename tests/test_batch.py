@@ -278,3 +278,27 @@ def test_command_line_mistakes_are_refused_before_any_work(tmp_path, capsys, mis
     assert code == EXIT_BAD_INPUT
     assert mistake[1].split("=")[0] in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_pool_takes_the_costliest_runs_of_points_first(tmp_path, monkeypatch):
+    """By continuation, the grid's contiguous runs go to the pool costliest first
+    (study.expected_cost: 1 + k_v), so no worker is left alone with the hardest row at
+    the end; every point is still run, each run in grid order."""
+    from vibrofric import scene as scenes
+    from vibrofric.batch import study
+    from vibrofric.batch.ledger import Ledger
+    from vibrofric.batch.points import plan
+
+    base = scenes.load(pathlib.Path(SCENE), ['time.method="periodic"'])
+    grid = [("vibration.k_v", [2.0, 3.0, 20.0, 6.0]), ("vibration.theta_deg", [0.0, 90.0])]
+    ledger = Ledger(plan(base, grid, tmp_path / "points"), "fe", tmp_path)
+    submitted = []
+    monkeypatch.setattr(study, "run_on_pool",
+                        lambda function, tasks, workers, done: submitted.extend(tasks))
+    study._run_by_continuation(ledger.points, ledger, "fe", 2, lambda point: None)
+    costs = [sum(map(study.expected_cost, points)) for points, _, _ in submitted]
+    assert costs == sorted(costs, reverse=True) and costs[0] > costs[-1]
+    assert submitted[0][0][0].values["vibration.k_v"] == 20.0
+    ran = [point.name for points, _, _ in sorted(submitted, key=lambda task: task[0][0].name)
+           for point in points]
+    assert sorted(ran) == sorted(point.name for point in ledger.points)

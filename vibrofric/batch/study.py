@@ -203,6 +203,10 @@ def _run_by_continuation(todo: list, ledger: Ledger, mode: str, workers: int, fi
         points = [todo[i] for i in part]
         before = order[points[0].name] - 1
         tasks.append((points, mode, ledger.points[before].directory if before >= 0 else None))
+    # The costliest runs first (a pool takes its tasks in order): the last to start are
+    # then short ones, and the workers end together instead of one finishing the
+    # grid's costliest row alone.
+    tasks.sort(key=lambda task: -sum(map(expected_cost, task[0])))
 
     def done(task, _result=None):
         for point in task[0]:
@@ -214,6 +218,17 @@ def _run_by_continuation(todo: list, ledger: Ledger, mode: str, workers: int, fi
         for task in tasks:
             _run_task(task)
             done(task)
+
+
+def expected_cost(point) -> float:
+    """A point's expected cost, relative: 1 + k_v. The steady cycle of a harder shaken
+    contact costs more: its contact iteration takes more iterations a step and its
+    orbit more Newton iterations. On the Fig 12 FE grid (reduced), a point's CPU time
+    was 0.10, 0.11, 0.13, 0.18 and 0.74 s at k_v = 2, 3, 4, 6 and 20. A point that
+    runs nothing (no valid scene) costs nothing."""
+    if point.scene is None:
+        return 0.0
+    return 1.0 + point.scene.vibration.k_v
 
 
 def _run_task(task) -> None:
