@@ -127,6 +127,26 @@ def test_the_loop_is_stable_just_below_dt_stable_and_not_just_above(factor, stab
             explicit.ExplicitRun(scene, m).integrate(plan)
 
 
+def test_a_sweep_keeps_one_model_for_the_points_that_share_it(comm):
+    """Within kept_between_runs (a sweep's run of points), a scene that changes only the
+    vibration gets the model built last, read-only; one that changes what the model is
+    built from (the normal load, the law's stiffness) gets its own, equal to a fresh
+    build bit for bit; outside it every call builds afresh."""
+    scene = load(LONGITUDINAL)
+    with fe_model.kept_between_runs():
+        first = fe_model.build_model(scene, comm)
+        assert fe_model.build_model(scene.with_values({"vibration.k_v": 6.0,
+                                                       "vibration.theta_deg": 90.0}), comm) is first
+        assert not first.u0.flags.writeable
+        for change in ({"contact.F_N": 40.0}, {"contact.k_t": 2.0 * scene.contact.k_t}):
+            other = fe_model.build_model(scene.with_values(change), comm)
+            assert other is not first
+            fresh = fe_model._built(scene.with_values(change), comm)
+            assert np.array_equal(other.u0, fresh.u0) and other.dt_stable == fresh.dt_stable
+    assert fe_model.build_model(scene, comm) is not fe_model.build_model(scene, comm)
+    assert fe_model.build_model(scene, comm).u0.flags.writeable
+
+
 # --- whole runs ------------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")

@@ -23,6 +23,7 @@ unless something changed it since: a point whose files do not match
 checks.json, or whose summary is not one a point writes, is DAMAGED, and runs again.
 """
 
+import contextlib
 import functools
 import json
 import math
@@ -157,9 +158,17 @@ def run_point(point: Point, mode: str, start=None):
 def run_in_sequence(points: list, mode: str, start=None) -> None:
     """Run ``points`` (contiguous in the grid) one after the other, each from the orbit
     of the one before where that one's steady cycle answered (continuation), the
-    first from ``start``."""
-    for point in points:
-        start = run_point(point, mode, start)
+    first from ``start``; FE points on one model share it (fe_model.kept_between_runs)."""
+    with _model_kept(mode):
+        for point in points:
+            start = run_point(point, mode, start)
+
+
+def _model_kept(mode: str):
+    if mode != "fe":
+        return contextlib.nullcontext()
+    from ..fem.model.fe_model import kept_between_runs
+    return kept_between_runs()
 
 
 def neighbour_orbit(directory: Path):

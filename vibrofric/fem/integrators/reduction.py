@@ -280,45 +280,62 @@ def compared_harmonics(scene) -> range:
 
 def compliance_error(model, reduction: Reduction, scene) -> dict:
     """The measured reduction error (see the module docstring): per harmonic, and the max."""
-    springs = _linearized_contact(model, scene.law_bounds.stiffness)
-    n, b = model.dofs, reduction.boundary
-    full_springs = np.zeros(n)
-    full_springs[b] = springs
-    loads = np.zeros((n, 3))
-    loads[b[0::3], 0] = model.area_share                     # uniform traction in X
-    loads[b[1::3], 1] = model.area_share                     # ... in Y
-    loads[3 * model.attach_nodes, 2] = model.attach_weights  # the drive's load
-    T = reduction.basis
-    reduced_loads = T.T @ loads
-    reduced_springs = np.zeros(T.shape[1])
-    reduced_springs[:b.size] = springs
-    K_full = (model.stiffness + sp.diags(full_springs)).tocsc()
-    K_red = reduction.stiffness + np.diag(reduced_springs)
-
-    def full(omega):
-        key = (reduction.model_key, scene.law_bounds.stiffness, omega)
-        if key not in _full_compliance:
-            def solved():
-                matrix = K_full * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * sp.diags(model.disc.mass)
-                lu = symmetric_lu(matrix, model.elimination_order)
-                return {"c": np.einsum("ij,ij->j", loads, lu.solve(loads.astype(complex)))}
-
-            parts = {"model": key[0], "k_t": float(key[1]), "omega": float(omega),
-                     "loss_factor": LOSS_FACTOR, "numpy": np.__version__,
-                     "scipy": scipy.__version__}
-            _full_compliance[key] = model_cache.cached("compliance", parts, solved)["c"]
-        return _full_compliance[key]
-
-    def reduced(omega):
-        matrix = K_red * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * reduction.mass
-        return np.einsum("ij,ij->j", reduced_loads, la.solve(matrix, reduced_loads.astype(complex)))
-
-    static = np.abs(reduced(0.0))  # the reduction is exact in statics
+    k_t = scene.law_bounds.stiffness
+    static = np.abs(_reduced_compliance(model, reduction, k_t, 0.0))  # exact in statics
     errors = {}
     for h in compared_harmonics(scene):
         omega = 2.0 * math.pi * h * scene.vibration.f
-        errors[h] = float(np.max(np.abs(reduced(omega) - full(omega)) / static))
+        difference = (_reduced_compliance(model, reduction, k_t, omega)
+                      - _full_compliance_at(model, reduction, k_t, omega))
+        errors[h] = float(np.max(np.abs(difference) / static))
     return {"per_harmonic": errors, "max": max(errors.values())}
+
+
+def _compliance_loads(model, boundary) -> np.ndarray:
+    """The three loads the compliances answer: uniform traction in X, in Y, the drive's."""
+    loads = np.zeros((model.dofs, 3))
+    loads[boundary[0::3], 0] = model.area_share
+    loads[boundary[1::3], 1] = model.area_share
+    loads[3 * model.attach_nodes, 2] = model.attach_weights
+    return loads
+
+
+def _full_compliance_at(model, reduction: Reduction, k_t: float, omega: float) -> np.ndarray:
+    """The full model's compliances at omega on the linearized contact (k_t), kept in this
+    process and in the model cache."""
+    key = (reduction.model_key, k_t, omega)
+    if key not in _full_compliance:
+        def solved():
+            b = reduction.boundary
+            full_springs = np.zeros(model.dofs)
+            full_springs[b] = _linearized_contact(model, k_t)
+            K_full = (model.stiffness + sp.diags(full_springs)).tocsc()
+            loads = _compliance_loads(model, b)
+            matrix = K_full * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * sp.diags(model.disc.mass)
+            lu = symmetric_lu(matrix, model.elimination_order)
+            return {"c": np.einsum("ij,ij->j", loads, lu.solve(loads.astype(complex)))}
+
+        parts = {"model": key[0], "k_t": float(k_t), "omega": float(omega),
+                 "loss_factor": LOSS_FACTOR, "numpy": np.__version__,
+                 "scipy": scipy.__version__}
+        _full_compliance[key] = model_cache.cached("compliance", parts, solved)["c"]
+    return _full_compliance[key]
+
+
+def _reduced_compliance(model, reduction: Reduction, k_t: float, omega: float) -> np.ndarray:
+    """The reduced model's compliances at omega on the linearized contact (k_t), kept with
+    the reduction."""
+    kept = reduction.__dict__.setdefault("compliances", {})   # by (k_t, omega)
+    if (k_t, omega) not in kept:
+        T, b = reduction.basis, reduction.boundary
+        reduced_loads = T.T @ _compliance_loads(model, b)
+        reduced_springs = np.zeros(T.shape[1])
+        reduced_springs[:b.size] = _linearized_contact(model, k_t)
+        K_red = reduction.stiffness + np.diag(reduced_springs)
+        matrix = K_red * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * reduction.mass
+        kept[k_t, omega] = np.einsum("ij,ij->j", reduced_loads,
+                                     la.solve(matrix, reduced_loads.astype(complex)))
+    return kept[k_t, omega]
 
 
 class ReducedRun(ImplicitRun):

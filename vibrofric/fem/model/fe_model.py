@@ -34,7 +34,8 @@ kHz for 0.5 kg) without eating the stable step: they get xi ~ 0.003.
 """
 
 import math
-from dataclasses import dataclass
+from contextlib import contextmanager
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -107,10 +108,61 @@ def check_tipping(scene) -> None:
                                          "use \"contact-plane\"")
 
 
+# Within kept_between_runs(): the last model built, under what it was built from
+# (_built_from); else None.
+_kept: dict | None = None
+
+
+@contextmanager
+def kept_between_runs():
+    """Within the block, build_model hands back the model it built last when a scene
+    asks for the same one (_built_from: the block, its mesh, contact, drive and the
+    law's stiffnesses), instead of reading the block from the model cache and solving
+    the preload and the highest frequency again: the points of a sweep that vary the
+    vibration share one model. Its arrays are made read-only, as every run that
+    shares it must leave it as it was."""
+    global _kept
+    outer, _kept = _kept, {}
+    try:
+        yield
+    finally:
+        _kept = outer
+
+
+def _built_from(scene) -> str:
+    """What build_model reads of a scene, as a key: equal keys build equal models."""
+    bounds = scene.law_bounds
+    return repr((scene.body.mass, tuple(scene.body.size), scene.body.E, scene.body.nu,
+                 scene.body.density, scene.body.gravity, scene.fem.mesh, scene.fem.penalty,
+                 scene.fem.damping, scene.drive.attach, scene.drive.prescribed,
+                 scene.drive.k_d, scene.contact.F_N, scene.mu_max, bounds.stiffness,
+                 bounds.max_stiffness))
+
+
+def _read_only(model: FEModel) -> FEModel:
+    for name in [f.name for f in fields(model)]:
+        value = getattr(model, name)
+        if isinstance(value, np.ndarray):
+            value.setflags(write=False)
+    return model
+
+
 def build_model(scene, comm) -> FEModel:
-    """Everything a run needs before its first step; refuses a scene it cannot run (core.errors.Refusal)."""
-    body = scene.body
+    """Everything a run needs before its first step; refuses a scene it cannot run
+    (core.errors.Refusal). Within kept_between_runs(), the model built last for the
+    same inputs, if any."""
     check_tipping(scene)
+    if _kept is None:
+        return _built(scene, comm)
+    key = _built_from(scene)
+    if key not in _kept:
+        _kept.clear()
+        _kept[key] = _read_only(_built(scene, comm))
+    return _kept[key]
+
+
+def _built(scene, comm) -> FEModel:
+    body = scene.body
     rho = density(scene)
     disc = model_cache.block(comm, body.size, scene.fem.mesh, body.E, body.nu, rho,
                              faces=(meshes.CONTACT, meshes.TOP, meshes.FRONT))
