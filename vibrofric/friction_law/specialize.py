@@ -100,10 +100,9 @@ class LawKernel:
 
         With ``direct``, the compiled code for ``args``' types itself, called without
         numba's dispatch, which types every argument again at each call to pick that
-        code (for the implicit FE step's 22 arguments, tuples of arrays, 0.2-0.5 ms a
-        call: as long as a whole base cycle of the reduced step on Fig 7, which the
-        shooting calls once a cycle). Only for a caller that passes arguments of those
-        same types at every call."""
+        code (for the FE steps' tuples of arrays, as long as a whole base cycle of the
+        reduced step, which the shooting calls once a cycle: docs/periodic.md). Only
+        for a caller that passes arguments of those same types at every call."""
         dispatcher = self.for_law(law)
         ready(dispatcher, args, f"{what} for {law_label(law)}")
         function = (dispatcher.overloads[signature(dispatcher, args)].entry_point if direct
