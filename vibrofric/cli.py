@@ -45,7 +45,7 @@ FAILURES_LISTED = 10     # failed points named on stderr; results.csv has them a
 
 # At exit, leave every object to the end of the process instead of to the cyclic
 # collector: with numba and matplotlib loaded, the interpreter's teardown would
-# traverse them all at every pass, ~0.3 s of a 1.5 s analytic run. Every exit
+# traverse them all at every pass (docs/performance.md, "Design choices measured"). Every exit
 # handler (files, loggers, pools) still runs.
 atexit.register(gc.freeze)
 

@@ -1,14 +1,13 @@
 """A run's plots and the block's picture, drawn by a child process while the run loads and runs.
 
-Drawn in the command's own process, after the stepping, the plots cost it
-~0.33 s of a ~0.75 s command: matplotlib imported (~0.19 s), then the two
-figures drawn (~0.14 s). ``vibrofric analytic`` therefore starts this module
+Drawn in the command's own process, after the stepping, the plots (matplotlib
+imported, then the figures drawn) cost a short command nearly half its time
+(docs/performance.md, "Design choices measured"). ``vibrofric analytic`` therefore starts this module
 as a child process first thing, before it imports numpy. On the other core
 the child imports matplotlib and draws a throwaway figure (the fonts loaded,
 the mathtext parser built) while the command loads its compiled stepper and
 steps; then it receives the rows the two plots draw (t and F_d of the written
-series, and the rows of its last cycles: ~0.6 MB for the 1 s longitudinal
-scene, not the whole 2.2 MB series) and draws them into the results' stage
+series, and the rows of its last cycles, not the whole series) and draws them into the results' stage
 while the command writes timeseries.csv:
 
     with PlotProcess() as plotter:                      # started: importing matplotlib
@@ -23,10 +22,8 @@ up: it draws three plots (the two above, FE beside analytic, and the FE
 model's normal force) and the block's picture (picture.py: matplotlib's 3D
 axes, from the node fields of the run's last step, sent with the rows). The
 rows are sent as soon as both models have run, and the child draws while the
-command writes the time series and the summary. Drawn one after the other in
-the command's process after the loop, the plots and the picture (then
-pyvista's, in a second child) took ~1.8 s of a repeat Fig 7 run
-(docs/first-answer.md).
+command writes the time series and the summary (docs/first-answer.md: what
+this saves a repeat Fig 7 run).
 
 The kinds of child (``PlotProcess(kind)``): "analytic" (two plots), "fe"
 (three plots and the picture).
@@ -56,7 +53,7 @@ KINDS = ("analytic", "fe")
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent  # the directory that holds vibrofric
 # OpenBLAS, loaded with numpy, starts a thread per further core, which spins a while
 # waiting for work. Neither process gives it any, and each needs the other's core
-# (measured: the plot process took 0.25 s of system CPU with it, 0.03 s without).
+# (docs/performance.md, "Design choices measured").
 ONE_BLAS_THREAD = {"OPENBLAS_NUM_THREADS": "1"}
 
 
@@ -219,5 +216,5 @@ if __name__ == "__main__":
     sys.stdout.flush()
     sys.stderr.flush()
     # Like multiprocessing's workers, end without the interpreter's teardown of all of
-    # matplotlib's objects (~60 ms the command would wait for); the PNGs are closed.
+    # matplotlib's objects, which the command would wait for; the PNGs are closed.
     os._exit(code)

@@ -29,7 +29,7 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None):
     is not stable, the scene is stepped through T as with "transient", and the
     summary's "periodic" block says so. The summary's wall_time_s is the solving
     alone: the compiled loops are loaded from numba's cache (or compiled) before
-    the clock starts, since that costs a new process ~0.3 s whatever the scene.
+    the clock starts, since that costs a new process the same whatever the scene.
     """
     orbit = None
     if scene.time.method != "transient" and scene.vibrated:

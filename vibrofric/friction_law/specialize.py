@@ -93,17 +93,25 @@ class LawKernel:
                 _prune(compiled, f"{Path(f.__code__.co_filename).stem}.{f.__qualname__}__")
         return compiled
 
-    def prepared(self, law, args, what: str):
+    def prepared(self, law, args, what: str, direct: bool = False):
         """This function compiled with ``law`` for ``args``' types, loaded or compiled now
         (announced: "compiling <what> for <law>, first run only"); see the module. For a
-        user's law, an exception out of it is the law's (blamed_on_law)."""
+        user's law, an exception out of it is the law's (blamed_on_law).
+
+        With ``direct``, the compiled code for ``args``' types itself, called without
+        numba's dispatch, which types every argument again at each call to pick that
+        code (for the FE steps' tuples of arrays, as long as a whole base cycle of the
+        reduced step, which the shooting calls once a cycle: docs/periodic.md). Only
+        for a caller that passes arguments of those same types at every call."""
         dispatcher = self.for_law(law)
         ready(dispatcher, args, f"{what} for {law_label(law)}")
-        return dispatcher if law.name in BUILT_IN else blamed_on_law(law, dispatcher)
+        function = (dispatcher.overloads[signature(dispatcher, args)].entry_point if direct
+                    else dispatcher)
+        return function if law.name in BUILT_IN else blamed_on_law(law, function)
 
 
 def blamed_on_law(law, dispatcher):
-    """``dispatcher`` with an exception raised in it turned into a LawError naming the
+    """``dispatcher`` (or its compiled code: LawKernel.prepared) with an exception raised in it turned into a LawError naming the
     law: a user's law runs bounds-checked, and the loops themselves raise nothing,
     so an IndexError or a ``raise`` there is the law's, on a state or an input its
     first steps (checked when it was loaded: law_check) did not reach, such as an FE

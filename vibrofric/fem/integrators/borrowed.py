@@ -7,8 +7,8 @@ tuple of arrays passed to a compiled function one pair per array. numba's
 pruning of these pairs stops at branches, and the friction law is full of
 them: in the implicit contact iteration (contact_solve.py) the node loop
 kept 6 pairs a node and one a friction sub-step, ~1,100 pairs a step of the
-reduced Fig 7 run (30 nodes, 11 sub-steps, 2.2 evaluations), and the loop
-took 1.05 s where it takes 0.90 s without them.
+reduced Fig 7 run (30 nodes, 11 sub-steps, 2.2 evaluations), a sixth of the
+loop's time (docs/performance.md, "Design choices measured").
 
 ``borrowed(x)`` is ``x`` (an array, or a tuple or named tuple of arrays and
 scalars) with each array's reference-count pointer set to null: the counts

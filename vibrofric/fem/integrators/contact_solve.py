@@ -128,8 +128,8 @@ def still_substeps(scene) -> int:
     free end moves with the base), and the block slides at about the
     drive's v_d: enough sub-steps for SLIP_PER_STEP s_c at v_d, which is
     implicit_substeps' slip rule with v_a = 0. On the Fig 7 scene at
-    dt = 1e-5 s that is 2 where the vibration needs 11, and the 0.3 s reduced
-    loop takes 1.15 s instead of 1.34-1.43 s. With the exact Dahl update the
+    dt = 1e-5 s that is 2 where the vibration needs 11 (the time this saves:
+    docs/performance.md, "Design choices measured"). With the exact Dahl update the
     sub-steps of a steady slide compose: F_dv/F_d0 moved by 2e-13 of itself
     (Fig 7), 5e-10 (coupled, k_v = 20, 75 deg), 1e-10 (LuGre on Fig 7, whose
     measured F_d0 agreed to 10 digits); step by step the summed normal force

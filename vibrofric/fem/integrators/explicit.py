@@ -45,7 +45,7 @@ from ..model.drive import attachment_position, prescribed_position
 from ..model.linalg import apply, bsr
 from ..model.fe_model import check_step
 from ..outputs.recording import COS, SIN, XB, YB, finish_step, keep_step
-from .time_loop import Started, TimeLoop, without_dispatch
+from .time_loop import Started, TimeLoop
 
 
 # The DOF-vector loops are compiled calls, not inlined into the time loop: numba's
@@ -272,8 +272,8 @@ class ExplicitRun(TimeLoop):
                 contact.state, contact.normal, contact.friction,
                 scalars, recorder.arrays, steady.arrays)
 
-        kernel = without_dispatch(explicit_steps.prepared(
-            law.law, arguments(1, 0), "the explicit FE loop"), arguments(1, 0))
+        kernel = explicit_steps.prepared(law.law, arguments(1, 0), "the explicit FE loop",
+                                         direct=True)
 
         def steps(first, last):
             return kernel(*arguments(first, last))

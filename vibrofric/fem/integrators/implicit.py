@@ -43,7 +43,7 @@ from .generalized_alpha import (LinearSystem, Scheme, coefficients, contact_tang
 from ..model.linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
 from ..outputs.recording import COS, LOOP_SCALARS, SIN, XB, YB, finish_step, keep_step
 from .step_cost import step_cost
-from .time_loop import Started, TimeLoop, without_dispatch
+from .time_loop import Started, TimeLoop
 
 # scalars[]: the implicit loop's own carried state, after recording's: the drive's force
 # and a prescribed drive's hold in Y at the last step, the contact iteration's statistics
@@ -308,8 +308,8 @@ class ImplicitRun(TimeLoop):
                     use_energy, q, v, a, contact.state, contact.normal, contact.friction,
                     g_prev, scalars, sums, recorder.arrays, steady.arrays, work)
 
-        kernel = without_dispatch(implicit_steps.prepared(
-            law.law, arguments(1, 0), f"the {self.name} FE loop"), arguments(1, 0))
+        kernel = implicit_steps.prepared(law.law, arguments(1, 0), f"the {self.name} FE loop",
+                                         direct=True)
 
         def steps(first, last):
             return kernel(*arguments(first, last))

@@ -23,27 +23,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...friction_law.specialize import signature
 from ..outputs import trouble
 from ..model.linalg import one_blas_thread
 from ..outputs.recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
                         loop_stats, run_in_chunks)
 from ..outputs.steady import SteadyState
-
-
-def without_dispatch(kernel, args):
-    """``kernel`` (the numba dispatcher LawKernel.prepared hands out, loaded for
-    ``args``' types) as its compiled code for those types, called without numba's
-    dispatch, which types every argument again at each call to pick that code: for
-    the implicit step's 22 arguments (tuples of arrays) 0.2-0.5 ms a call, as long as
-    a whole base cycle of the reduced step on Fig 7, where the shooting calls it once
-    a cycle (cycle_map.py). start() passes the same arrays at every call (only the
-    step numbers change), so it is the same compiled code either way. A kernel that
-    is not a dispatcher (a user's law's, wrapped to name the law in its errors:
-    specialize.blamed_on_law) is returned as it is."""
-    overloads = getattr(kernel, "overloads", None)
-    compiled = overloads.get(signature(kernel, args)) if overloads is not None else None
-    return kernel if compiled is None else compiled.entry_point
 
 
 @dataclass

@@ -62,8 +62,8 @@ def _dolfinx():
 
 def communicator(comm=None):
     """``comm``, or MPI.COMM_SELF for None: mpi4py is imported only here, when DOLFINx
-    is about to be used (starting MPI costs a run ~0.4 s that a run from the model
-    cache without ParaView frames does not need)."""
+    is about to be used (starting MPI costs a run time that a run from the model
+    cache does not need: docs/first-answer.md)."""
     if comm is None:
         from mpi4py import MPI
         comm = MPI.COMM_SELF

@@ -63,7 +63,7 @@ def directory():
 
 @functools.cache
 def dolfinx_version() -> str:
-    """The installed DOLFINx's version, read without importing it (that takes ~0.5 s)."""
+    """The installed DOLFINx's version, read without importing it (slow: docs/first-answer.md)."""
     for name in ("fenics-dolfinx", "dolfinx-solver-real", "dolfinx"):
         try:
             return f"{name} {importlib.metadata.version(name)}"

@@ -26,8 +26,8 @@ arrays needs no DOLFINx, so a run from the model cache never loads it.
 A .vtu is written here directly (vtu_text): VTK's XML format with each array
 inline and zlib-compressed (VTK's vtkZLibDataCompressor: a header of UInt64
 sizes, then the compressed little-endian bytes, each in base64), as meshio
-wrote it before; importing meshio took a run ~0.05-0.1 s, longer than writing
-every frame.
+wrote it before; importing meshio took a run longer than writing all its
+frames (docs/performance.md, "Design choices measured").
 """
 
 import base64
