@@ -223,8 +223,8 @@ def _run_by_continuation(todo: list, ledger: Ledger, mode: str, workers: int, fi
 def expected_cost(point) -> float:
     """A point's expected cost, relative: 1 + k_v. The steady cycle of a harder shaken
     contact costs more: its contact iteration takes more iterations a step and its
-    orbit more Newton iterations. On the Fig 12 FE grid (reduced), a point's CPU time
-    was 0.10, 0.11, 0.13, 0.18 and 0.74 s at k_v = 2, 3, 4, 6 and 20. A point that
+    orbit more Newton iterations: on the Fig 12 FE grid (reduced) a point at k_v = 20
+    cost about seven times one at k_v = 2 (docs/periodic.md, Speed). A point that
     runs nothing (no valid scene) costs nothing."""
     if point.scene is None:
         return 0.0
