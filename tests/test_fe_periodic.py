@@ -169,3 +169,20 @@ def test_a_shooting_reports_each_cycle_it_runs_to_the_progress_callback():
     counts = [done for done, total in reports]
     assert all(total is None for _, total in reports)
     assert counts == list(range(1, fe.info["periodic"]["cycles_integrated"] + 1))
+
+
+@pytest.mark.slow
+def test_a_shooting_that_fails_from_the_lumped_answer_tries_again_from_steady_sliding():
+    """examples/laws/maxwell_slip.py on Fig 7 (reduced): from steady sliding set back by
+    the lumped model's F_dv (as vibrofric run starts it) Newton-Picard does not converge
+    in MAX_CYCLES; from steady sliding under F_d0 it does, so the run is answered by its
+    orbit, not stepped."""
+    from vibrofric.analytic.solve import solve
+
+    scene = fig7(fem__integrator="reduced", time__dt=STEPS["reduced"], time__method="periodic",
+                 **{"contact.law": MAXWELL["contact.law"]})
+    lumped = solve(scene)[1]["F_dv"]
+    fe = run_fe(scene, drive_force=lumped)
+    block = fe.info["periodic"]
+    assert block["method"] == "periodic" and block["converged"], block
+    assert block["cycles_integrated"] > periodic.MAX_CYCLES   # the first try's cycles count
