@@ -170,9 +170,12 @@ def self_contained_law_kernels():
     """
     from numba.core.codegen import CPUCodeLibrary
 
-    if not getattr(CPUCodeLibrary._optimize_final_module, "vibrofric", False):
-        CPUCodeLibrary._optimize_final_module = _self_contained(
-            CPUCodeLibrary._optimize_final_module)
+    # A numba method of its own (numba 0.56 and 0.68 have it): where a numba release has
+    # not, the loops run as compiled, and tests/test_specialize.py says the copies are
+    # not renamed, rather than the package failing to load.
+    optimize = getattr(CPUCodeLibrary, "_optimize_final_module", None)
+    if optimize is not None and not getattr(optimize, "vibrofric", False):
+        CPUCodeLibrary._optimize_final_module = _self_contained(optimize)
 
 
 self_contained_law_kernels()
