@@ -134,6 +134,7 @@ class Reduction:
     boundary    the full-model DOFs of q_b, contact node by node (X, Y, Z)
     frequencies the kept fixed-interface modes' frequencies, Hz
     model_key   model_key(model): its full compliances are kept under it
+    compliances the reduced compliances computed so far, by (k_t, omega) (compliance_error)
     """
 
     STORED = ("basis", "boundary", "frequencies", "mass", "stiffness")   # model_cache's arrays
@@ -147,12 +148,14 @@ class Reduction:
         """The Reduction that ``arrays()`` gave, for the model of ``model_key`` ``key``."""
         reduction = cls.__new__(cls)
         reduction.model_key = key
+        reduction.compliances = {}
         for name in cls.STORED:
             setattr(reduction, name, arrays[name])
         return reduction
 
     def __init__(self, model, cutoff_hz: float, key: str | None = None):
         self.model_key = key if key is not None else model_key(model)
+        self.compliances = {}
         n = model.dofs
         boundary = (3 * model.contact_nodes[:, None] + np.arange(3)[None, :]).ravel()
         interior = np.setdiff1d(np.arange(n), boundary)
@@ -325,7 +328,7 @@ def _full_compliance_at(model, reduction: Reduction, k_t: float, omega: float) -
 def _reduced_compliance(model, reduction: Reduction, k_t: float, omega: float) -> np.ndarray:
     """The reduced model's compliances at omega on the linearized contact (k_t), kept with
     the reduction."""
-    kept = reduction.__dict__.setdefault("compliances", {})   # by (k_t, omega)
+    kept = reduction.compliances
     if (k_t, omega) not in kept:
         T, b = reduction.basis, reduction.boundary
         reduced_loads = T.T @ _compliance_loads(model, b)
