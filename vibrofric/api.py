@@ -258,7 +258,8 @@ def write_fe_run(scene: "Scene", stage: Path,
 
 
 def run_fe(scene: "Scene", out: str | Path | None = None, *, force: bool = False,
-       progress: Callable[[float, float | None], None] | None = None, full_series: bool = False) -> Result:
+       progress: Callable[[float, float | None], None] | None = None,
+       full_series: bool = False) -> Result:
     """Run the scene's finite-element model (DOLFINx) and the analytic stepper beside it.
 
     With ``out`` the results are written there as ``vibrofric run --out``

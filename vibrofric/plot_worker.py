@@ -2,13 +2,14 @@
 
 Drawn in the command's own process, after the stepping, the plots (matplotlib
 imported, then the figures drawn) cost a short command nearly half its time
-(docs/performance.md, "Design choices measured"). ``vibrofric analytic`` therefore starts this module
-as a child process first thing, before it imports numpy. On the other core
-the child imports matplotlib and draws a throwaway figure (the fonts loaded,
-the mathtext parser built) while the command loads its compiled stepper and
-steps; then it receives the rows the two plots draw (t and F_d of the written
-series, and the rows of its last cycles, not the whole series) and draws them into the results' stage
-while the command writes timeseries.csv:
+(docs/performance.md, "Design choices measured"). ``vibrofric analytic``
+therefore starts this module as a child process first thing, before it imports
+numpy. On the other core the child imports matplotlib and draws a throwaway
+figure (the fonts loaded, the mathtext parser built) while the command loads
+its compiled stepper and steps; then it receives the rows the two plots draw (t
+and F_d of the written series, and the rows of its last cycles, not the whole
+series) and draws them into the results' stage while the command writes
+timeseries.csv:
 
     with PlotProcess() as plotter:                      # started: importing matplotlib
         ...                                             # scene, stepper, stepping
