@@ -280,10 +280,12 @@ def test_command_line_mistakes_are_refused_before_any_work(tmp_path, capsys, mis
     assert list(tmp_path.iterdir()) == []
 
 
-def test_a_pool_takes_the_costliest_runs_of_points_first(tmp_path, monkeypatch):
-    """By continuation, the grid's contiguous runs go to the pool costliest first
-    (study.expected_cost: 1 + k_v), so no worker is left alone with the hardest row at
-    the end; every point is still run, each run in grid order."""
+def run_lanes(tmp_path, monkeypatch, workers, completion_order):
+    """_run_by_continuation on a 4 x 2 grid with a pool that finishes its tasks in the
+    order ``completion_order`` picks from those in flight; each point's "orbit" is its
+    name. Returns (the ledger, the points in the order they ran, {point: the start it
+    was given}, the tasks in flight at each moment, the points reported finished,
+    {point: its lane})."""
     from vibrofric import scene as scenes
     from vibrofric.batch import study
     from vibrofric.batch.ledger import Ledger
@@ -292,13 +294,73 @@ def test_a_pool_takes_the_costliest_runs_of_points_first(tmp_path, monkeypatch):
     base = scenes.load(pathlib.Path(SCENE), ['time.method="periodic"'])
     grid = [("vibration.k_v", [2.0, 3.0, 20.0, 6.0]), ("vibration.theta_deg", [0.0, 90.0])]
     ledger = Ledger(plan(base, grid, tmp_path / "points"), "fe", tmp_path)
-    submitted = []
-    monkeypatch.setattr(study, "run_on_pool",
-                        lambda function, tasks, workers, done: submitted.extend(tasks))
-    study._run_by_continuation(ledger.points, ledger, "fe", 2, lambda point: None)
-    costs = [sum(map(study.expected_cost, points)) for points, _, _ in submitted]
-    assert costs == sorted(costs, reverse=True) and costs[0] > costs[-1]
-    assert submitted[0][0][0].values["vibration.k_v"] == 20.0
-    ran = [point.name for points, _, _ in sorted(submitted, key=lambda task: task[0][0].name)
-           for point in points]
-    assert sorted(ran) == sorted(point.name for point in ledger.points)
+    ran, starts, in_flight, lanes = [], {}, [], {}
+
+    def pool(function, tasks, pool_workers, on_result):
+        assert pool_workers == workers
+        flight = list(tasks)
+        while flight:
+            in_flight.append(len(flight))
+            task = flight.pop(completion_order(len(flight)))
+            point, _, start, lane = task
+            ran.append(point.name)
+            starts[point.name] = start
+            lanes[point.name] = lane
+            flight.extend(on_result(task, point.name) or ())
+
+    monkeypatch.setattr(study, "run_on_pool", pool)
+    reported = []
+    study._run_by_continuation(ledger.points, ledger, "fe", workers, reported.append)
+    return ledger, ran, starts, in_flight, [point.name for point in reported], lanes
+
+
+@pytest.mark.parametrize("order", ["first", "last"])
+def test_two_workers_work_the_grid_from_both_ends_each_point_from_its_lanes_last(
+        tmp_path, monkeypatch, order):
+    """With two workers the grid is worked from both ends at once, a lane forward from
+    the first point and one back from the last, until they meet, whichever lane's points
+    end first; every point runs once, each lane's from the orbit of its point before, and
+    only the two first points start with none (nothing on disk yet)."""
+    pick = (lambda n: 0) if order == "first" else (lambda n: n - 1)
+    ledger, ran, starts, in_flight, reported, lanes = run_lanes(tmp_path, monkeypatch, 2, pick)
+    names = [point.name for point in ledger.points]
+    assert sorted(ran) == sorted(names) and sorted(reported) == sorted(names)
+    assert set(in_flight[:-1]) == {2}             # both lanes busy until they meet
+    forward = [k for k, name in enumerate(names) if lanes[name] == lanes[names[0]]]
+    assert forward == list(range(len(forward)))   # the lanes meet: one prefix, one suffix
+    expected = [(names[k - 1] if k > 0 else None) if k in forward else
+                (names[k + 1] if k + 1 < len(names) else None) for k in range(len(names))]
+    assert [starts[name] for name in names] == expected
+
+
+def test_one_worker_runs_the_grid_in_order_in_this_process(tmp_path, monkeypatch):
+    """With one worker: no pool, every point in grid order from the one before."""
+    from vibrofric.batch import points as points_module
+
+    calls = []
+    monkeypatch.setattr(points_module, "run_point",
+                        lambda point, mode, start: calls.append((point.name, start)) or point.name)
+    ledger, ran, _, _, reported, _ = run_lanes(tmp_path, monkeypatch, 1, lambda n: 0)
+    names = [point.name for point in ledger.points]
+    assert ran == [] and reported == names
+    assert calls == list(zip(names, [None] + names[:-1]))
+
+
+def test_more_workers_cut_the_grid_into_segments_of_equal_expected_cost():
+    """Four workers: two segments, each worked from both ends, of about equal expected
+    cost (study.expected_cost: 1 + k_v); three: a segment from both ends with two thirds
+    of the cost and one worked forward alone with the rest."""
+    from types import SimpleNamespace
+
+    from vibrofric.batch import study
+
+    points = [SimpleNamespace(scene=SimpleNamespace(vibration=SimpleNamespace(k_v=k_v)))
+              for k_v in [2.0] * 10 + [20.0] * 4]          # costs 3 x 10, then 21 x 4: 114
+    cost = lambda segment: sum(map(study.expected_cost, segment.points))  # noqa: E731
+    two = study._segments(points, 4)
+    assert [both for _, both in two] == [True, True]
+    assert sum(len(s.points) for s, _ in two) == len(points)
+    assert abs(cost(two[0][0]) - cost(two[1][0])) <= 21      # within the costliest point
+    three = study._segments(points, 3)
+    assert [both for _, both in three] == [True, False]
+    assert abs(cost(three[0][0]) - 2 * 114 / 3) <= 21

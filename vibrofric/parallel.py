@@ -95,19 +95,24 @@ def _start_method() -> str:
 
 def run_on_pool(function, tasks, workers: int, on_result) -> None:
     """``function(task)`` for every task on ``workers`` processes, one task per
-    process at a time; ``on_result(task, result)`` in the parent as each ends.
+    process at a time; ``on_result(task, result)`` in the parent as each ends,
+    which may return further tasks (an iterable), run on the same pool.
 
     An exception from a task, or an interrupt, ends the whole pool.
     """
     import multiprocessing  # here: every command imports this module, few start a pool
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(_start_method()),
                                initializer=_worker_start, initargs=(os.getpid(),))
     try:
         futures = {pool.submit(function, task): task for task in tasks}
-        for future in as_completed(futures):
-            on_result(futures[future], future.result())
+        while futures:
+            done, _ = wait(futures, return_when=FIRST_COMPLETED)
+            for future in done:
+                task = futures.pop(future)
+                for follow in on_result(task, future.result()) or ():
+                    futures[pool.submit(function, follow)] = follow
     except BaseException:
         # Python 3.14's ProcessPoolExecutor.terminate_workers() does this.
         for process in list(pool._processes.values()):

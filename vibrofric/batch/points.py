@@ -155,13 +155,26 @@ def run_point(point: Point, mode: str, start=None):
     return None
 
 
-def run_in_sequence(points: list, mode: str, start=None) -> None:
-    """Run ``points`` (contiguous in the grid) one after the other, each from the orbit
-    of the one before where that one's steady cycle answered (continuation), the
-    first from ``start``; FE points on one model share it (fe_model.kept_between_runs)."""
+def run_in_sequence(points: list, mode: str, start=None, finished=None) -> None:
+    """Run ``points`` one after the other in this process, each from the orbit of the
+    one before where that one's steady cycle answered (continuation), the first from
+    ``start``; ``finished(point)`` after each. FE points on one model share it
+    (fe_model.kept_between_runs)."""
     with _model_kept(mode):
         for point in points:
             start = run_point(point, mode, start)
+            if finished is not None:
+                finished(point)
+
+
+def run_point_on_worker(task):
+    """run_point((point, mode, start, ...)) on a pool's worker (a module-level function),
+    which keeps its FE model between the points it is handed (fe_model.kept_for_this_process)."""
+    point, mode, start = task[:3]
+    if mode == "fe":
+        from ..fem.model.fe_model import kept_for_this_process
+        kept_for_this_process()
+    return run_point(point, mode, start)
 
 
 def _model_kept(mode: str):

@@ -23,10 +23,10 @@ from .. import budget, output, plots
 from .. import scene as scene_module
 from ..grid import point_name
 from ..parallel import default_workers, interruptible, run_on_pool
-from ..analytic.continuation import chunks
 from . import mpi
 from .ledger import Ledger
-from .points import ERROR, neighbour_orbit, plan, run_in_sequence, run_point
+from .points import (ERROR, neighbour_orbit, plan, run_in_sequence, run_point,
+                     run_point_on_worker)
 
 RATIO = "F_dv_over_F_d0"
 
@@ -190,34 +190,103 @@ def _figures(ledger: Ledger, keys: list, scene, out: Path) -> None:
 
 
 def _run_by_continuation(todo: list, ledger: Ledger, mode: str, workers: int, finished) -> None:
-    """time.method periodic or auto: the points to run cut into contiguous runs of the
-    grid (one with one worker; 4 a worker on a pool, as batch.sweep), each run in
-    order on one worker, every point from its predecessor's orbit
-    (points.run_in_sequence), the first from the orbit its grid predecessor left on
-    disk if that one has finished by the time the run starts (an earlier run's,
-    or the run before on this worker)."""
+    """time.method periodic or auto: every point from the orbit of the point before it
+    in its lane (continuation). The points to run, in grid order, are cut into
+    ceil(workers / 2) segments of equal expected cost (expected_cost), and each segment
+    is worked from both ends at once: a lane walking forward from its first point, one
+    walking back from its last, until they meet. The lanes of a segment end within a
+    point of each other, so no worker is left alone with a costly stretch at the end,
+    and only a lane's first point starts without the orbit of the point before it
+    (from the one its grid neighbour left on disk, if that one has finished: a resumed
+    sweep). With one worker: one lane, in grid order, in this process."""
+    if not todo:
+        return
     order = {point.name: k for k, point in enumerate(ledger.points)}
-    parts = 1 if workers == 1 else 4 * workers
-    tasks = []
-    for part in chunks(len(todo), parts):
-        points = [todo[i] for i in part]
-        before = order[points[0].name] - 1
-        tasks.append((points, mode, ledger.points[before].directory if before >= 0 else None))
-    # The costliest runs first (a pool takes its tasks in order): the last to start are
-    # then short ones, and the workers end together instead of one finishing the
-    # grid's costliest row alone.
-    tasks.sort(key=lambda task: -sum(map(expected_cost, task[0])))
 
-    def done(task, _result=None):
-        for point in task[0]:
-            finished(point)
+    def disk_orbit(point, side: int):
+        """The orbit the point's grid neighbour on ``side`` (-1: before it, 1: after it)
+        left on disk, if that one has finished (points.neighbour_orbit), else None."""
+        k = order[point.name] + side
+        return neighbour_orbit(ledger.points[k].directory) if 0 <= k < len(order) else None
 
-    if workers > 1 and len(tasks) > 1:
-        run_on_pool(_run_task, tasks, workers, done)
-    else:
-        for task in tasks:
-            _run_task(task)
-            done(task)
+    if workers == 1 or len(todo) == 1:
+        run_in_sequence(todo, mode, disk_orbit(todo[0], -1), finished)
+        return
+    lanes = [_Lane(segment, forward)
+             for segment, both in _segments(todo, workers)
+             for forward in ((True, False) if both else (True,))]
+
+    def next_task(k: int):
+        lane = lanes[k]
+        point = lane.segment.take(lane.forward)
+        if point is None:
+            return []
+        start = lane.orbit if lane.started else disk_orbit(point, -1 if lane.forward else 1)
+        lane.started = True
+        return [(point, mode, start, k)]
+
+    def done(task, orbit):
+        finished(task[0])
+        lanes[task[3]].orbit = orbit
+        return next_task(task[3])
+
+    first = [task for k in range(len(lanes)) for task in next_task(k)]
+    run_on_pool(run_point_on_worker, first, workers, done)
+
+
+@dataclass
+class _Segment:
+    """A contiguous run of the points to run, taken from its front and its back."""
+
+    points: list
+    front: int = 0
+    back: int = -1
+
+    def __post_init__(self):
+        self.back = len(self.points) - 1
+
+    def take(self, forward: bool):
+        """The next point from the front (or the back), or None once both ends have met."""
+        if self.front > self.back:
+            return None
+        if forward:
+            self.front += 1
+            return self.points[self.front - 1]
+        self.back -= 1
+        return self.points[self.back + 1]
+
+
+@dataclass
+class _Lane:
+    """One walk through a segment: its direction and the orbit of its last point."""
+
+    segment: _Segment
+    forward: bool
+    orbit: object = None
+    started: bool = False
+
+
+def _segments(todo: list, workers: int) -> list:
+    """(segment, worked from both ends) for ``workers`` lanes: workers // 2 segments
+    worked from both ends and, for an odd number, one from its front alone, each
+    with a share of the expected cost in proportion to its lanes."""
+    lanes = [2] * (workers // 2) + [1] * (workers % 2)
+    costs = [expected_cost(point) for point in todo]
+    total = sum(costs) or 1.0
+    segments, first, spent, share = [], 0, 0.0, 0.0
+    for k, count in enumerate(lanes):
+        share += count / workers
+        last = first
+        if k == len(lanes) - 1:
+            last = len(todo)
+        else:
+            while last < len(todo) and spent + costs[last] <= share * total:
+                spent += costs[last]
+                last += 1
+        if last > first:
+            segments.append((_Segment(todo[first:last]), count == 2))
+        first = last
+    return segments
 
 
 def expected_cost(point) -> float:
@@ -229,13 +298,6 @@ def expected_cost(point) -> float:
     if point.scene is None:
         return 0.0
     return 1.0 + point.scene.vibration.k_v
-
-
-def _run_task(task) -> None:
-    """One contiguous run of points (a pool's task: a module-level function)."""
-    points, mode, predecessor = task
-    start = neighbour_orbit(predecessor) if predecessor is not None else None
-    run_in_sequence(points, mode, start)
 
 
 def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = False) -> Outcome:

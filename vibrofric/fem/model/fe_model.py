@@ -129,6 +129,14 @@ def kept_between_runs():
         _kept = outer
 
 
+def kept_for_this_process() -> None:
+    """What kept_between_runs() does, for the rest of this process: a sweep's pool
+    worker, which is handed the sweep's points one at a time."""
+    global _kept
+    if _kept is None:
+        _kept = {}
+
+
 def _built_from(scene) -> str:
     """What build_model reads of a scene, as a key: equal keys build equal models."""
     bounds = scene.law_bounds
