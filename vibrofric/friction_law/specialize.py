@@ -104,9 +104,8 @@ class LawKernel:
         reduced step, which the shooting calls once a cycle: docs/periodic.md). Only
         for a caller that passes arguments of those same types at every call."""
         dispatcher = self.for_law(law)
-        ready(dispatcher, args, f"{what} for {law_label(law)}")
-        function = (dispatcher.overloads[signature(dispatcher, args)].entry_point if direct
-                    else dispatcher)
+        sig = ready(dispatcher, args, f"{what} for {law_label(law)}")
+        function = dispatcher.overloads[sig].entry_point if direct else dispatcher
         return function if law.name in BUILT_IN else blamed_on_law(law, function)
 
 
@@ -256,12 +255,14 @@ def _compile_lock(dispatcher):
         yield
 
 
-def ready(dispatcher, args, what: str) -> None:
+def ready(dispatcher, args, what: str) -> tuple:
     """Make ``dispatcher``'s code for ``args``' types available in this process: from
-    memory, from numba's cache, or compiled once under the lock, announced."""
+    memory, from numba's cache, or compiled once under the lock, announced. Returns
+    those types (signature), for a caller that needs them too: typing the FE steps'
+    tuples of arrays is not free."""
     sig = signature(dispatcher, args)
     if sig in dispatcher.overloads:
-        return
+        return sig
     if will_compile(dispatcher, args):
         announce(f"compiling {what}, first run only")
     with _compile_lock(dispatcher):
@@ -276,6 +277,7 @@ def ready(dispatcher, args, what: str) -> None:
             except Exception:
                 pass
             _compile_interruptibly(dispatcher, sig)
+    return sig
 
 
 def _compile_interruptibly(dispatcher, sig) -> None:
