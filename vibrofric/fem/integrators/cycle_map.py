@@ -73,8 +73,8 @@ class FECycleMap:
         self.preload = self._pack()       # the arrays as start() made them: the static preload
         self.translation = self._image(self._motion("x"))
         restrained_y = scene.drive.prescribed
-        self.neutral = np.array([self._image(self._motion(m))
-                                 for m in (("turn",) if restrained_y else ("y", "turn"))])
+        self.unrestrained = ("turn",) if restrained_y else ("y", "turn")
+        self.neutral = np.array([self._image(self._motion(m)) for m in self.unrestrained])
         self.scale = np.ones(self.size)
         self.scale = self._scales()
         self._neutral_scaled = None
@@ -236,30 +236,45 @@ class FECycleMap:
         return self.gauge(end / self.scale)
 
     def slow_directions(self, normalized: bool = True) -> np.ndarray:
-        """(scaled size, 2): the block's rigid translation in X and its velocity: the
+        """(scaled size, p): the block's rigid translation in X and its velocity: the
         drive mode (the block on the drive spring k_d), the map's slowest (0.985 a
-        cycle on Fig 7), gauged; each of unit norm, or with ``normalized`` False
-        that of a unit translation (1 m) and a unit velocity (1 m/s)."""
+        cycle on Fig 7); and where the base moves in Y, the velocities of the rigid
+        motions nothing but friction restrains (the translation in Y and the turn about
+        Z, whose positions the gauge takes out), slow too: on the Fig 12 FE grid's
+        k_v = 2 and 20 rows (reduced) Newton-Picard took 1993 cycles with them, 2149
+        without. Gauged; each of unit norm, or with ``normalized`` False that of a unit
+        motion (1 m, 1 m/s, 1 rad/s)."""
+        kinds = ("x",) + (self.unrestrained if self._base_moves_in_y() else ())
+        directions = np.column_stack([self.gauge(self.translation / self.scale)]
+                                     + [self.gauge(self._velocity_image(kind) / self.scale)
+                                        for kind in kinds])
+        if normalized:
+            directions /= np.linalg.norm(directions, axis=0)
+        return directions
+
+    def _base_moves_in_y(self) -> bool:
+        _, sin_theta = vibration_axis(self.scene.vibration.theta_deg)
+        return abs(sin_theta) > 1e-9
+
+    def _velocity_image(self, kind: str) -> np.ndarray:
+        """The packed state of a unit rigid velocity of ``kind`` (_motion) and nothing else."""
         velocity = np.zeros(self.full_size)
-        moved = self.started.rigid(self._motion("x"))
+        moved = self.started.rigid(self._motion(kind))
         k = 0
         for name, array in self.parts:
             if name == "v":
                 velocity[k:k + array.size] = np.asarray(moved["q" if "q" in moved else "u"]).ravel()
             k += array.size
-        directions = np.column_stack([self.gauge(self.translation / self.scale),
-                                      self.gauge(velocity / self.scale)])
-        if normalized:
-            directions /= np.linalg.norm(directions, axis=0)
-        return directions
+        return velocity
 
     def slow_step(self) -> np.ndarray:
         """The difference steps along the normalized slow directions (slow_directions):
         a rigid shift of 1e-3 of the drive spring's stretch under F_c (57 nm on Fig 7):
         linear, and far above the contact iteration's tolerance (1e-6 of F_N / k_t,
         0.7 pm); and the velocity the drive mode has at that amplitude, the shift times
-        its angular frequency sqrt(k_d / m) (25 um/s on Fig 7, 5% of v_d). The same
-        scaled step in both (a velocity of 0.17 m/s on Fig 7, 340 v_d) made the Newton
+        its angular frequency sqrt(k_d / m) (25 um/s on Fig 7, 5% of v_d), and that speed
+        in Y and as a turn rate over the block's length. The same scaled step in the
+        first two (a velocity of 0.17 m/s on Fig 7, 340 v_d) made the Newton
         matrix's velocity column a difference across the contact's kinks: from steady
         sliding its residual was 8000 against 120 at the start."""
         scene = self.scene
@@ -267,7 +282,10 @@ class FECycleMap:
         shift = 1e-3 * F_c / scene.drive.k_d
         speed = shift * math.sqrt(scene.drive.k_d / scene.body.mass)
         directions = self.slow_directions(normalized=False)
-        return np.array([shift, speed]) * np.linalg.norm(directions, axis=0)
+        turn_rate = speed / scene.body.size[0]
+        free = self.unrestrained if directions.shape[1] > 2 else ()
+        steps = [shift, speed] + [speed if kind == "y" else turn_rate for kind in free]
+        return np.array(steps) * np.linalg.norm(directions, axis=0)
 
     def initial_state(self, drive_force: float) -> np.ndarray:
         """The unscaled co-moving state of steady sliding before any transient: the preload,
