@@ -39,13 +39,11 @@ STABLE = 1.0 - 1e-6      # a Floquet multiplier modulus at or above this is not 
 # state met since the last start (its residual the same to the bit: the map is
 # deterministic) after Anderson's history was dropped on the way (a failed trial) is
 # such a cycle for certain: nothing has changed that could lead elsewhere, so it restarts
-# at once rather than after STALL iterations. On the Fig 12 grid (reduced) at k_v = 20 the
-# same two or three states came round up to eight times; the row's cycles went from 1814
-# to 1564. (A return with the history kept is left to Anderson, whose next combination
-# can break the cycle.) An iterate is refused where its residual is beyond ASTRAY times the
-# best: with 10 instead, the Fig 12 grid's k_v = 2 and 20 rows took 2481 cycles, 2099 with
-# ASTRAY (Anderson's combinations between 10 and 20 times the best mostly lead on), and
-# twelve Fig 7 and shipped-scene cases (three integrators, three laws) 861 and 849.
+# at once rather than after STALL iterations. (A return with the history kept is left to
+# Anderson, whose next combination can break the cycle.) An iterate is refused where its
+# residual is beyond ASTRAY times the best, where the next iteration would start afresh:
+# Anderson's combinations short of that mostly lead on. (Cycles measured with each choice:
+# docs/performance.md, "Design choices measured".)
 ASTRAY = 20.0
 STALL = 8
 MARGIN = 0.1     # largest_multipliers: settled to this fraction of the distance to the unit circle

@@ -240,10 +240,9 @@ class FECycleMap:
         drive mode (the block on the drive spring k_d), the map's slowest (0.985 a
         cycle on Fig 7); and where the base moves in Y, the velocities of the rigid
         motions nothing but friction restrains (the translation in Y and the turn about
-        Z, whose positions the gauge takes out), slow too: on the Fig 12 FE grid's
-        k_v = 2 and 20 rows (reduced) Newton-Picard took 1993 cycles with them, 2149
-        without. Gauged; each of unit norm, or with ``normalized`` False that of a unit
-        motion (1 m, 1 m/s, 1 rad/s)."""
+        Z, whose positions the gauge takes out), slow too (docs/performance.md, "Design
+        choices measured"). Gauged; each of unit norm, or with ``normalized`` False that
+        of a unit motion (1 m, 1 m/s, 1 rad/s)."""
         kinds = ("x",) + (self.unrestrained if self._base_moves_in_y() else ())
         directions = np.column_stack([self.gauge(self.translation / self.scale)]
                                      + [self.gauge(self._velocity_image(kind) / self.scale)

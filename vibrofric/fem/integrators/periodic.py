@@ -49,10 +49,8 @@ DECAY_SKIP = 10          # of them letting the fast components die out (30 more 
 DECAY_AMPLITUDE = 1e-3   # the perturbation's RMS, scaled
 SMOOTH_ITERATION = 1e-10  # the contact iteration's tolerance for the multipliers' cycles: the
                          # stepper's own (1e-6) leaves a roughness that the difference steps see.
-                         # The iteration contracts by ~0.01 an iteration (5.8 a step at 1e-12
-                         # against 2.6 at 1e-6 on the Fig 12 grid at k_v = 20), so at 1e-10 its
-                         # error is ~1e-12; Fig 7's multipliers (reduced, implicit) agree to 5e-5
-                         # for 1e-9 to 1e-12, and a product costs a sixth less than at 1e-12
+                         # The iteration contracts ~100 times an iteration, so its error at
+                         # 1e-10 is ~1e-12 (docs/performance.md, "Design choices measured")
 FRAMES_PER_CYCLE = 16    # ParaView frames of the steady cycle
 
 
@@ -86,8 +84,8 @@ def find_orbit(phi: FECycleMap, start: np.ndarray | None = None,
         # Set back by the lumped model's F_dv, the start is nearer most orbits (Fig 7:
         # 70 cycles against 90 from F_d0), not every law's for certain:
         # examples/laws/maxwell_slip.py on Fig 7 (reduced) once did not converge in
-        # MAX_CYCLES from there and did in 65 from steady sliding under F_d0 (it now
-        # converges from both, in 80 and 65). So a second try starts there.
+        # MAX_CYCLES from there and did from steady sliding under F_d0 (docs/periodic.md).
+        # So a second try starts there.
         shot = _shoot(phi, _sliding_start(phi, None))
     multipliers = np.empty(0)
     reason = shot.reason
