@@ -135,3 +135,32 @@ def test_mesh_study_reports_each_level_against_the_extrapolation(small):
     assert [run.setting.split(",")[0] for run in study.runs] == ["tiny", "2x2x2", "2x3x3"]
     assert study.sizes[0] > study.sizes[1] > study.sizes[2]
     assert "Mesh study" in bench.markdown(small)
+
+
+def test_the_fe_study_row_runs_the_command_as_typed_and_counts_the_orbits(monkeypatch, tmp_path):
+    """periodic_vs_transient.fe_study runs the vibrofric command of this environment
+    (a one-point warm-up, then the 125-point grid) for each method and counts from
+    its results.csv the points answered by their orbit; the report's table says so."""
+    import subprocess
+    from pathlib import Path
+
+    from vibrofric.bench import periodic_vs_transient as pvt
+
+    calls = []
+
+    def fake_run(argv, check, capture_output):
+        calls.append(argv)
+        out = Path(argv[argv.index("--out") + 1])
+        stepped = "time.method=transient" in argv
+        rows = ["fe.F_dv_over_F_d0" + ("" if stepped else ",fe.periodic.method")]
+        rows += ["0.5" + ("" if stepped else f",{m}") for m in ("periodic", "transient", "periodic")]
+        (out / "results.csv").write_text("\n".join(rows) + "\n")
+        return subprocess.CompletedProcess(argv, 0)
+
+    monkeypatch.setattr(pvt.subprocess, "run", fake_run)
+    result = pvt.fe_study(workers=2)
+    assert [argv[0] for argv in calls] == [str(Path(pvt.sys.executable).parent / "vibrofric")] * 4
+    assert [("vibration.k_v=2,3,4,6,20" in argv, "time.method=transient" in argv)
+            for argv in calls] == [(False, False), (True, False), (False, True), (True, True)]
+    assert result["periodic"][2] == 2 and result["transient"][2] == 0
+    assert "| points answered by their orbit | 0 | 2 |" in pvt.study_markdown(result)

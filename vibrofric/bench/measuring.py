@@ -209,7 +209,7 @@ def measure(plan: Plan, progress=print) -> dict:
     periodic = None
     if plan.periodic:
         progress("periodic steady state against the transient")
-        periodic = periodic_vs_transient.measure(plan.periodic_fe)
+        periodic = periodic_vs_transient.measure(plan.periodic_fe, plan.periodic_fe_study)
     return {"plan": plan, "analytic_reference": analytic_reference, "fe_reference": fe_reference,
             "rows": rows, "growth": growth, "laws": laws, "breakdowns": breakdowns,
             "mesh": mesh, "periodic": periodic}

@@ -7,6 +7,11 @@ Measurements for ``vibrofric bench`` and benchmarks/periodic_vs_transient.py;
 the numbers themselves go in docs/periodic.md, with the machine named.
 """
 
+import csv
+import resource
+import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -145,11 +150,52 @@ def fe_fig7(cases=FE_CASES, T: float = 0.45, tolerance: float = 1e-4) -> list:
     return rows
 
 
-def measure(fe_cases=tuple(case[0] for case in FE_CASES)) -> dict:
-    """Every row; the FE ones for the FE_CASES labelled ``fe_cases``."""
+# The Fig 12 FE study as a user types it (docs/periodic.md), reduced on the coarse mesh;
+# stepped, each point stops once settled to 2e-3 (docs/performance.md's study).
+FE_STUDY = ["sweep", str(SCENES / "coupled.toml"), "--fe", "--set", "fem.output_every=0",
+            "--set", "fem.integrator=reduced", "--set", "time.dt=1e-5"]
+FE_GRID = ["--grid", "vibration.k_v=2,3,4,6,20", "--grid", "vibration.theta_deg=0:360:25"]
+ONE_POINT = ["--grid", "vibration.k_v=2", "--grid", "vibration.theta_deg=45"]
+STEPPED = ["--set", "time.method=transient", "--set", "time.steady_tolerance=2e-3"]
+
+
+def fe_study(workers: int = 2) -> dict:
+    """The 125-point Fig 12 FE study by its orbits (the default) and stepped, each the
+    ``vibrofric`` command of this environment run on ``workers`` processes into a
+    directory of its own (a command, as the package's studies run above the bench),
+    after a one-point run of the same that loads (or compiles) its loops: {method:
+    (wall s, CPU s of the command and its workers, points answered by their orbit)},
+    or {} where there is no such command."""
+    command = Path(sys.executable).parent / "vibrofric"
+    if not command.is_file():
+        return {}
+    result = {}
+    for method, more in (("periodic", []), ("transient", STEPPED)):
+        def run(grid, out):
+            subprocess.run([str(command), *FE_STUDY, *grid, *more, "--out", out,
+                            "--workers", str(workers)], check=True, capture_output=True)
+
+        with tempfile.TemporaryDirectory() as warm, tempfile.TemporaryDirectory() as out:
+            run(ONE_POINT, warm)
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            start = time.perf_counter()
+            run(FE_GRID, out)
+            wall = time.perf_counter() - start
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            with open(Path(out) / "results.csv", newline="") as f:
+                answered = sum(row.get("fe.periodic.method") == "periodic"
+                               for row in csv.DictReader(f))
+        cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+        result[method] = (wall, cpu, answered)
+    return result
+
+
+def measure(fe_cases=tuple(case[0] for case in FE_CASES), study: bool = False) -> dict:
+    """Every row; the FE ones for the FE_CASES labelled ``fe_cases``; with ``study``, the
+    Fig 12 FE study (fe_study)."""
     cases = [case for case in FE_CASES if case[0] in fe_cases]
     return {"fig7": fig7(), "fig12": fig12(), "steps_per_cycle": steps_per_cycle(),
-            "fe": fe_fig7(cases) if cases else []}
+            "fe": fe_fig7(cases) if cases else [], "fe_study": fe_study() if study else {}}
 
 
 def markdown(result: dict) -> list:
@@ -186,4 +232,16 @@ def markdown(result: dict) -> list:
                          f"{r['settled_loop_s']:.2f} s) | {r['cycles']} "
                          f"({r['cycles'] * r['steps_per_cycle']}), {r['periodic_s']:.2f} s | "
                          f"{r['rel_difference']:.1e} | {r['floquet']:.4f} |")
+    if result.get("fe_study"):
+        lines += [""] + study_markdown(result["fe_study"])
     return lines
+
+
+def study_markdown(study: dict) -> list:
+    """The table of fe_study's result."""
+    (pw, pc, pn), (tw, tc, tn) = study["periodic"], study["transient"]
+    return ["The Fig 12 FE study (125 points, reduced, coarse mesh, `vibrofric sweep` on "
+            "both cores; stepped: each point stopped once settled to 2e-3):", "",
+            "| | stepped | by its orbits (the default) |", "|---|---|---|",
+            f"| wall, CPU | {tw:.1f} s, {tc:.1f} s | {pw:.1f} s, {pc:.1f} s |",
+            f"| points answered by their orbit | {tn} | {pn} |"]

@@ -40,6 +40,7 @@ class Plan:
     mesh_study: tuple = ()     # (integrator, dt, (level, ...) coarse to fine): the spatial error
     periodic: bool = False     # the periodic solver against the transient (periodic_vs_transient.py)
     periodic_fe: tuple = ()    # its FE cases (periodic_vs_transient.FE_CASES' labels)
+    periodic_fe_study: bool = False  # the Fig 12 FE study by orbits and stepped, both cores
 
 
 _MESH_STEPS = (("tiny", 2e-6), ("coarse", 1e-6), ("medium", 5e-7))  # explicit: below each stable step
@@ -92,6 +93,7 @@ FULL = Plan(
     mesh_study=("reduced", 1e-5, MESH_LEVELS + ("fine",)),
     periodic=True,
     periodic_fe=("reduced", "implicit", "explicit", "reduced, k_t x 100", "reduced, medium mesh"),
+    periodic_fe_study=True,
 )
 
 
