@@ -364,3 +364,29 @@ def test_more_workers_cut_the_grid_into_segments_of_equal_expected_cost():
     three = study._segments(points, 3)
     assert [both for _, both in three] == [True, False]
     assert abs(cost(three[0][0]) - 2 * 114 / 3) <= 21
+
+
+def test_the_sweeps_time_left_leaves_out_each_workers_first_point(tmp_path):
+    """Progress: no time left until each worker's first point has finished (it loads or
+    compiles the loops), then the rate since then: here a first point of 30 s (a
+    compile), then a point every second, 8 of 10 left."""
+    from types import SimpleNamespace
+
+    from vibrofric.batch.study import Progress
+
+    now = [0.0]
+    ledger = SimpleNamespace(points=list(range(10)), records={}, failed=[])
+    bar = Progress(ledger, enabled=False, warm_up=1, clock=lambda: now[0])
+    shown = []
+
+    def finish(seconds):
+        now[0] += seconds
+        ledger.records[len(ledger.records)] = {}
+        bar.update()
+        shown.append(bar.bar.postfix)
+
+    finish(30.0)
+    finish(1.0)
+    finish(1.0)
+    assert "left" not in shown[0]        # the compile's point: no rate from it
+    assert shown[1].endswith("left=8 s") and shown[2].endswith("left=7 s")

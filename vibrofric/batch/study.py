@@ -93,21 +93,38 @@ def method(record) -> str | None:
 
 
 class Progress:
-    """The bar on stderr: finished points of the grid, done / failed, ETA.
+    """The bar on stderr: finished points of the grid, done / failed, and the time left.
 
     It counts what the ledger holds, so under mpirun rank 0's bar also moves
-    for the other ranks' points (each time it reads the directories).
+    for the other ranks' points (each time it reads the directories). The time left
+    is the rate since the first ``warm_up`` points of this run finished (each
+    worker's first point loads its compiled loops, or compiles them for a new law or
+    an edited package: seconds to a minute that say nothing of the rest), shown once
+    a point has finished after them.
     """
 
-    def __init__(self, ledger: Ledger, enabled: bool):
+    def __init__(self, ledger: Ledger, enabled: bool, warm_up: int = 1, clock=time.monotonic):
         self.ledger = ledger
+        self.clock = clock
         self.bar = tqdm(total=len(ledger.points), initial=len(ledger.records), desc="sweep",
-                        unit="point", disable=not enabled)
+                        unit="point", disable=not enabled,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {n_fmt}/{total_fmt} "
+                                   "[{elapsed}{postfix}]")
+        self.warm_up_end = len(ledger.records) + warm_up    # points finished when it ends
+        self.since = None                                   # (clock, points) then
         self._postfix()
 
     def _postfix(self):
         failed = len(self.ledger.failed)
-        self.bar.set_postfix(done=len(self.ledger.records) - failed, failed=failed, refresh=False)
+        finished = len(self.ledger.records)
+        postfix = {"done": finished - failed, "failed": failed}
+        if self.since is None and finished >= self.warm_up_end:
+            self.since = (self.clock(), finished)
+        elif self.since is not None and finished > self.since[1]:
+            start, points = self.since
+            rate = (finished - points) / max(self.clock() - start, 1e-9)
+            postfix["left"] = f"{(len(self.ledger.points) - finished) / rate:.0f} s"
+        self.bar.set_postfix(postfix, refresh=False)
 
     def update(self):
         self._postfix()
@@ -331,7 +348,9 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         todo = comm.bcast(todo, root=0)  # rank 0's reading of the directories, for all
     todo = [ledger.points[i] for i in todo]
     reused = len(ledger.points) - len(todo)
-    bar = Progress(ledger, enabled=leader)
+    workers = workers or default_workers()
+    # each worker's (or rank's) first point loads or compiles its loops: not in the rate
+    bar = Progress(ledger, enabled=leader, warm_up=comm.size if comm is not None else workers)
 
     def finished(point, _result=None):
         # under mpirun the other ranks' points land too: read every directory
@@ -340,7 +359,6 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         bar.update()
 
     run = functools.partial(run_point, mode=mode)
-    workers = workers or default_workers()
     continued = scene.time.method != "transient" and comm is None
     try:
         with interruptible():
