@@ -235,21 +235,38 @@ class FECycleMap:
         end, _ = self.raw_cycle(x * self.scale)
         return self.gauge(end / self.scale)
 
-    def slow_directions(self, normalized: bool = True) -> np.ndarray:
-        """(scaled size, p): the block's rigid translation in X and its velocity: the
-        drive mode (the block on the drive spring k_d), the map's slowest (0.985 a
-        cycle on Fig 7); and where the base moves in Y, the velocities of the rigid
-        motions nothing but friction restrains (the translation in Y and the turn about
-        Z, whose positions the gauge takes out), slow too (docs/performance.md, "Design
-        choices measured"). Gauged; each of unit norm, or with ``normalized`` False that
-        of a unit motion (1 m, 1 m/s, 1 rad/s)."""
+    def slow_directions(self) -> tuple:
+        """(S, steps): the map's slow directions, S (scaled size, p) gauged and each of
+        unit norm, and the difference step along each (newton_picard's ``slow`` and
+        ``slow_step``).
+
+        The directions: the block's rigid translation in X and its velocity, the drive
+        mode (the block on the drive spring k_d), the map's slowest (0.985 a cycle on
+        Fig 7); and where the base moves in Y, the velocities of the rigid motions
+        nothing but friction restrains (the translation in Y and the turn about Z, whose
+        positions the gauge takes out), slow too (docs/performance.md, "Design choices
+        measured").
+
+        The steps: a rigid shift of 1e-3 of the drive spring's stretch under F_c (57 nm
+        on Fig 7): linear, and far above the contact iteration's tolerance (1e-6 of
+        F_N / k_t, 0.7 pm); the velocity the drive mode has at that amplitude, the shift
+        times its angular frequency sqrt(k_d / m) (25 um/s on Fig 7, 5% of v_d); and that
+        speed in Y and as a turn rate over the block's length. The same scaled step in
+        the first two (a velocity of 0.17 m/s on Fig 7, 340 v_d) made the Newton
+        matrix's velocity column a difference across the contact's kinks: from steady
+        sliding its residual was 8000 against 120 at the start."""
+        scene = self.scene
         kinds = ("x",) + (self.unrestrained if self._base_moves_in_y() else ())
         directions = np.column_stack([self.gauge(self.translation / self.scale)]
                                      + [self.gauge(self._velocity_image(kind) / self.scale)
-                                        for kind in kinds])
-        if normalized:
-            directions /= np.linalg.norm(directions, axis=0)
-        return directions
+                                        for kind in kinds])     # of a unit motion each
+        norms = np.linalg.norm(directions, axis=0)
+        F_c = scene.F_c if scene.F_c > 0 else scene.contact.F_N
+        shift = 1e-3 * F_c / scene.drive.k_d
+        speed = shift * math.sqrt(scene.drive.k_d / scene.body.mass)
+        turn_rate = speed / scene.body.size[0]
+        steps = [shift] + [turn_rate if kind == "turn" else speed for kind in kinds]
+        return directions / norms, np.array(steps) * norms
 
     def _base_moves_in_y(self) -> bool:
         _, sin_theta = vibration_axis(self.scene.vibration.theta_deg)
@@ -265,26 +282,6 @@ class FECycleMap:
                 velocity[k:k + array.size] = np.asarray(moved["q" if "q" in moved else "u"]).ravel()
             k += array.size
         return velocity
-
-    def slow_step(self) -> np.ndarray:
-        """The difference steps along the normalized slow directions (slow_directions):
-        a rigid shift of 1e-3 of the drive spring's stretch under F_c (57 nm on Fig 7):
-        linear, and far above the contact iteration's tolerance (1e-6 of F_N / k_t,
-        0.7 pm); and the velocity the drive mode has at that amplitude, the shift times
-        its angular frequency sqrt(k_d / m) (25 um/s on Fig 7, 5% of v_d), and that speed
-        in Y and as a turn rate over the block's length. The same scaled step in the
-        first two (a velocity of 0.17 m/s on Fig 7, 340 v_d) made the Newton
-        matrix's velocity column a difference across the contact's kinks: from steady
-        sliding its residual was 8000 against 120 at the start."""
-        scene = self.scene
-        F_c = scene.F_c if scene.F_c > 0 else scene.contact.F_N
-        shift = 1e-3 * F_c / scene.drive.k_d
-        speed = shift * math.sqrt(scene.drive.k_d / scene.body.mass)
-        directions = self.slow_directions(normalized=False)
-        turn_rate = speed / scene.body.size[0]
-        free = self.unrestrained if directions.shape[1] > 2 else ()
-        steps = [shift, speed] + [speed if kind == "y" else turn_rate for kind in free]
-        return np.array(steps) * np.linalg.norm(directions, axis=0)
 
     def initial_state(self, drive_force: float) -> np.ndarray:
         """The unscaled co-moving state of steady sliding before any transient: the preload,

@@ -15,9 +15,9 @@ started from steady sliding (the preload moving at v_d, set back by the drive
 spring's stretch under the mean drive force expected: the lumped model's F_dv
 where the caller has it, else F_d0) after PLAIN_CYCLES plain cycles that bring
 every node's friction law into its vibrated sliding (and give the law's state its
-scale: set_law_scale), or from a neighbour's orbit (``start``: sweeps). The largest Floquet multipliers: Arnoldi on directional
-derivatives at the orbit, on the map with its contact iteration converged
-tightly (SMOOTH_ITERATION).
+scale: set_law_scale), or from a neighbour's orbit (``start``: sweeps). The largest
+Floquet multipliers: Arnoldi on directional derivatives at the orbit, on the map
+with its contact iteration converged tightly (SMOOTH_ITERATION).
 
 Where 1/(f dt) is not a whole number the scene is run at the nearest step that
 puts a whole number in a cycle (periodic_scene; the summary's periodic.dt and
@@ -136,8 +136,8 @@ def _sliding_start(phi: FECycleMap, drive_force: float | None) -> np.ndarray:
 def _shoot(phi: FECycleMap, z_raw: np.ndarray):
     """Newton-Picard (core.shooting) from the unscaled state ``z_raw``."""
     phi.set_law_scale(z_raw)
-    return newton_picard(phi, phi.gauge(z_raw / phi.scale), phi.slow_directions(),
-                         phi.slow_step(), TOLERANCE, MAX_CYCLES)
+    slow, steps = phi.slow_directions()
+    return newton_picard(phi, phi.gauge(z_raw / phi.scale), slow, steps, TOLERANCE, MAX_CYCLES)
 
 
 def decay_rate(phi: FECycleMap, x: np.ndarray) -> float:
