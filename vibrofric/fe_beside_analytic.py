@@ -40,12 +40,14 @@ class FEBesideAnalytic:
     fe_info          FEResult.info, with "vtk" the ParaView series relative to the directory
     fe               the FEResult (series, fields)
     analytic_series  the analytic stepper's TimeSeries
+    analytic_scene   the scene it ran (analytic_scene)
     """
 
     document: dict
     fe_info: dict
     fe: object
     analytic_series: TimeSeries
+    analytic_scene: object
 
 
 def relative_error(fe: float | None, analytic: float | None) -> float | None:
@@ -83,7 +85,8 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     from .analytic.summary import summarize, summarize_orbit
     from .fem import run_fe
 
-    analytic_series, analytic = solve(analytic_scene(scene))
+    beside = analytic_scene(scene)
+    analytic_series, analytic = solve(beside)
     try:     # a shooting without a neighbour's orbit starts from the lumped model's F_dv
         fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress,
                     start=start, drive_force=analytic["F_dv"])
@@ -109,7 +112,7 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     document = {"fe": fe_summary, "analytic": analytic,
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}
     fe_info = {**fe.info, "vtk": "paraview/block.pvd" if fe.info["frames"] else None}
-    return FEBesideAnalytic(document, fe_info, fe, analytic_series)
+    return FEBesideAnalytic(document, fe_info, fe, analytic_series, beside)
 
 
 def write_beside(directory, scene, done: FEBesideAnalytic, full_series: bool = False) -> None:
@@ -118,5 +121,5 @@ def write_beside(directory, scene, done: FEBesideAnalytic, full_series: bool = F
     ``full_series`` every kept row."""
     output.write_scene(directory, scene)
     output.write_timeseries(directory, written(done.fe.series, scene, full_series))
-    output.write_timeseries(directory, written(done.analytic_series, analytic_scene(scene),
+    output.write_timeseries(directory, written(done.analytic_series, done.analytic_scene,
                                                full_series), "analytic_timeseries.csv")
