@@ -237,7 +237,8 @@ def _partial(target: Path, kind: str = "", suffix: str = "") -> Path:
     """A fresh partial name beside ``target``. Created by the caller with mkdir or
     open, which respect the umask (tempfile's 0700 / 0600 would hide results
     from the rest of a cluster group)."""
-    return target.with_name(f".{target.name}{PARTIAL}{kind}{os.getpid()}-{os.urandom(4).hex()}{suffix}")
+    unique = f"{os.getpid()}-{os.urandom(4).hex()}"
+    return target.with_name(f".{target.name}{PARTIAL}{kind}{unique}{suffix}")
 
 
 def remove_partials(directory: Path) -> None:

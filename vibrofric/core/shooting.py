@@ -305,10 +305,11 @@ def largest_multipliers(cycle, z: np.ndarray, phi_z: np.ndarray, fd_step: float,
                         seed: int = 0):
     """(multipliers largest modulus first, cycles integrated): the Ritz values of the
     cycle map's Jacobian at ``z`` (Arnoldi on forward-difference products, from a
-    reproducible random start; [inf] where the stepper failed in one), stopped (after at least 5 products) once the largest
-    modulus rho changes by at most ``settle`` rho from one product to the next, or
-    by at most ``margin`` |1 - rho| over each of the last two: settled well enough
-    to say on which side of the unit circle it lies, the verdict it is taken for."""
+    reproducible random start; [inf] where the stepper failed in one), stopped (after
+    at least 5 products) once the largest modulus rho changes by at most ``settle``
+    rho from one product to the next, or by at most ``margin`` |1 - rho| over each of
+    the last two: settled well enough to say on which side of the unit circle it
+    lies, the verdict it is taken for."""
     h = fd_step * max(1.0, float(np.sqrt(np.mean(z * z))))
     count = 0
 

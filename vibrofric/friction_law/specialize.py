@@ -110,11 +110,12 @@ class LawKernel:
 
 
 def blamed_on_law(law, dispatcher):
-    """``dispatcher`` (or its compiled code: LawKernel.prepared) with an exception raised in it turned into a LawError naming the
-    law: a user's law runs bounds-checked, and the loops themselves raise nothing,
-    so an IndexError or a ``raise`` there is the law's, on a state or an input its
-    first steps (checked when it was loaded: law_check) did not reach, such as an FE
-    node's area share below 1 or a count of calls."""
+    """``dispatcher`` (or its compiled code: LawKernel.prepared) with an exception
+    raised in it turned into a LawError naming the law: a user's law runs
+    bounds-checked, and the loops themselves raise nothing, so an IndexError or a
+    ``raise`` there is the law's, on a state or an input its first steps (checked
+    when it was loaded: law_check) did not reach, such as an FE node's area share
+    below 1 or a count of calls."""
     def run(*args):
         try:
             return dispatcher(*args)
