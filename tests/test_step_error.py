@@ -1,0 +1,74 @@
+"""Richardson's step-error estimate (core/step_error.py) on answers of known error."""
+
+import math
+
+import pytest
+
+from vibrofric.core.step_error import (SAFETY_ASSUMED, SAFETY_OBSERVED, not_estimated,
+                                       richardson)
+
+EXACT = 0.137
+
+
+def answers(order, coefficient=0.02, h=1e-5, count=3, noise=0.0):
+    """F(h) = F* + C h^p (h in units of 1e-5 s) at h, h/2, h/4."""
+    return [(h / 2**k, EXACT + coefficient * (h / 2**k / 1e-5) ** order + noise * (-1) ** k)
+            for k in range(count)]
+
+
+@pytest.mark.parametrize("order", [1.0, 2.0, 1.5])
+def test_observed_order_and_error_of_an_asymptotic_scheme(order):
+    est = richardson(answers(order), dt_asked=1e-5)
+    true_error = abs(answers(order)[0][1] - EXACT)
+    # the answers are exactly C h^p: the order is observed to rounding, and the
+    # estimate is the true error times the factor of safety
+    assert est.order == pytest.approx(order, rel=1e-9)
+    assert est.estimate == pytest.approx(SAFETY_OBSERVED * true_error, rel=1e-9)
+
+
+def test_a_higher_order_term_leaves_the_estimate_within_its_safety_factor():
+    """F = F* + C h + D h^2 with D h = C/4 at h: not yet asymptotic, still bounded."""
+    data = [(h, EXACT + 0.02 * h / 1e-5 + 0.005 * (h / 1e-5) ** 2)
+            for h in (1e-5, 0.5e-5, 0.25e-5)]
+    est = richardson(data, dt_asked=1e-5)
+    true_error = data[0][1] - EXACT
+    assert true_error <= est.estimate <= 3 * true_error
+
+
+def test_oscillating_answers_claim_no_order():
+    data = [(1e-5, EXACT + 0.01), (0.5e-5, EXACT - 0.004), (0.25e-5, EXACT + 0.001)]
+    est = richardson(data, dt_asked=1e-5)
+    assert est.order is None
+    assert est.estimate == pytest.approx(SAFETY_ASSUMED * (0.014 + 0.005))
+    assert est.estimate >= 0.01
+
+
+def test_two_answers_assume_the_formal_order():
+    data = answers(1.0, count=2)
+    est = richardson(data, dt_asked=1e-5, formal_order=1.0)
+    assert est.order is None
+    assert est.estimate == pytest.approx(SAFETY_ASSUMED * (data[0][1] - EXACT), rel=1e-9)
+
+
+def test_answers_within_the_resolution_give_the_resolution():
+    est = richardson([(1e-5, EXACT), (0.5e-5, EXACT + 1e-12), (0.25e-5, EXACT)],
+                     dt_asked=1e-5, resolution=1e-10)
+    assert est.estimate == 1e-10 and est.order is None
+
+
+def test_step_for_an_accuracy():
+    est = richardson(answers(1.0), dt_asked=1e-5)
+    h = est.step_for(1e-3)
+    # error 1.25 * 0.02 (h / 1e-5) = 1e-3 at h = 1e-5 / 25
+    assert h == pytest.approx(1e-5 / 25, rel=1e-9)
+    assert est.step_for(1.0) is None
+    assert not_estimated(1e-5, 1e-5, "asked").step_for(1e-3) is None
+
+
+def test_refuses_steps_that_are_not_halved_and_reports_non_finite():
+    with pytest.raises(ValueError, match="halved"):
+        richardson([(1e-5, 1.0), (0.3e-5, 1.0)], dt_asked=1e-5)
+    est = richardson([(1e-5, 1.0), (0.5e-5, math.nan)], dt_asked=1e-5)
+    assert est.estimate is None and est.note.startswith("not estimated")
+    assert set(est.as_dict()) == {"error_estimate", "error_order", "dt_used", "dt_asked",
+                                  "error_note"}

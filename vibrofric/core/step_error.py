@@ -1,0 +1,115 @@
+"""The time step's error of a cycle-averaged answer, from the same solver at halved steps.
+
+A scheme of order p gives an answer F(h) = F* + C h^p + O(h^(p+1)) at step h. From
+the answers at h, h/2 and h/4 (Richardson, Phil. Trans. R. Soc. A 210 (1911) 307):
+
+    d1 = F(h) - F(h/2),    d2 = F(h/2) - F(h/4)
+    p_observed = log2(d1 / d2)                       (where d1 and d2 share their sign)
+    F(h) - F*  ~ d1 / (1 - 2^-p)
+
+and with two answers only, the same with the scheme's formal order p. The estimate
+reported is that error times Roache's factor of safety (1.25 where the order was
+observed, 3 where it was assumed: Roache, "Verification and validation in
+computational science and engineering", Hermosa 1998, ch. 5, the grid convergence
+index), so that it bounds the true error with the margin of a three-grid study.
+
+Where the answers do not converge monotonically (d1 and d2 of opposite signs, or
+an observed order below MIN_ORDER: the steps are too coarse for the asymptotic
+range) no order is claimed and the estimate is |d1| + |d2| times the same factor
+of safety as an assumed order. Where the answers agree to the solver's own
+resolution (its convergence tolerance: differences below it are noise), the
+estimate is that resolution.
+
+The answer reported is always F(h) at the step the solver used (the step asked
+for, or the one nearest it that divides the base's cycle: the estimate is the
+error of that answer against the converged one, so it covers the snapping).
+"""
+
+import math
+from dataclasses import dataclass
+
+SAFETY_OBSERVED = 1.25   # Roache's factor of safety, order observed from three steps
+SAFETY_ASSUMED = 3.0     # and where it is assumed (two steps) or not in the asymptotic range
+MIN_ORDER = 0.5          # below this the answers are not yet in their asymptotic range
+MAX_ORDER = 4.0          # above it the halvings' ratio is noise or a kink, not an order
+
+
+@dataclass(frozen=True)
+class StepError:
+    """The step error of an answer (absolute, on the answer itself).
+
+    estimate   the bound on |F(h) - F*| (None: no estimate was made, ``note`` says why)
+    order      the order observed from three steps (None: assumed or not asymptotic)
+    dt_used    the step the answer was computed at
+    dt_asked   the step the scene asked for (time.dt)
+    answers    ((dt, F), ...) the answers the estimate comes from, finest last
+    note       how it was made, or why not
+    """
+
+    estimate: float | None
+    order: float | None
+    dt_used: float
+    dt_asked: float
+    answers: tuple = ()
+    note: str = ""
+
+    def step_for(self, accuracy: float, formal_order: float = 1.0) -> float | None:
+        """The step that would bring the estimate to ``accuracy`` (assuming the error
+        falls as h^p, p the observed order or else ``formal_order``), or None where
+        no estimate was made or it already meets it."""
+        if self.estimate is None or self.estimate <= accuracy:
+            return None
+        p = self.order if self.order is not None else formal_order
+        return self.dt_used * (accuracy / self.estimate) ** (1.0 / p)
+
+    def as_dict(self) -> dict:
+        """The summary's keys: ``error_estimate`` (absolute, on F_dv/F_d0 where the
+        answer is that ratio), ``error_order``, ``dt_used``, ``dt_asked``, ``error_note``."""
+        return {"error_estimate": self.estimate, "error_order": self.order,
+                "dt_used": self.dt_used, "dt_asked": self.dt_asked, "error_note": self.note}
+
+
+def not_estimated(dt_used: float, dt_asked: float, why: str) -> StepError:
+    """A StepError that says no estimate was made, and why."""
+    return StepError(None, None, dt_used, dt_asked, (), f"not estimated: {why}")
+
+
+def richardson(answers, dt_asked: float, formal_order: float = 1.0,
+               resolution: float = 0.0) -> StepError:
+    """The step error of ``answers[0]`` from answers at successively halved steps.
+
+    ``answers``: ((h, F(h)), (h/2, F(h/2))[, (h/4, F(h/4))]), the reported answer
+    first; ``formal_order``: the scheme's order, used where it cannot be observed;
+    ``resolution``: the solver's own accuracy on F (differences below it are noise).
+    """
+    answers = tuple((float(h), float(f)) for h, f in answers)
+    if len(answers) not in (2, 3):
+        raise ValueError(f"richardson needs 2 or 3 answers at halved steps, got {len(answers)}")
+    for (h, _), (h_next, _) in zip(answers, answers[1:]):
+        if not math.isclose(h_next, h / 2.0, rel_tol=1e-9):
+            raise ValueError(f"richardson needs halved steps: {h:g} then {h_next:g}")
+    dt_used = answers[0][0]
+    values = [f for _, f in answers]
+    if not all(math.isfinite(f) for f in values):
+        return not_estimated(dt_used, dt_asked, "an answer at a halved step is not finite")
+    d1 = values[0] - values[1]
+    if abs(d1) <= resolution:
+        return StepError(resolution, None, dt_used, dt_asked, answers,
+                         f"the answers at dt and dt/2 agree within the solver's resolution "
+                         f"{resolution:.1e}")
+    if len(answers) == 3:
+        d2 = values[1] - values[2]
+        ratio = d1 / d2 if d2 != 0.0 else math.inf
+        if math.isfinite(ratio) and ratio > 0.0:
+            order = math.log2(ratio)
+            if MIN_ORDER <= order <= MAX_ORDER:
+                error = abs(d1) / (1.0 - 2.0 ** -order)
+                return StepError(SAFETY_OBSERVED * error, order, dt_used, dt_asked, answers,
+                                 f"Richardson from dt, dt/2, dt/4 (order {order:.2f} observed)")
+        error = SAFETY_ASSUMED * (abs(d1) + abs(d2))
+        return StepError(error, None, dt_used, dt_asked, answers,
+                         "dt, dt/2, dt/4 not yet converging at a steady order: "
+                         "|F(dt) - F(dt/2)| + |F(dt/2) - F(dt/4)|, times 3")
+    error = abs(d1) / (1.0 - 2.0 ** -formal_order)
+    return StepError(SAFETY_ASSUMED * error, None, dt_used, dt_asked, answers,
+                     f"Richardson from dt and dt/2 (the scheme's order {formal_order:g} assumed)")
