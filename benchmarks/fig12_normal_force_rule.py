@@ -1,6 +1,7 @@
 """The Fig 12 FE study under each normal-force rule, against the analytic model.
 
-    PYTHONPATH=. .venv/bin/python benchmarks/fig12_normal_force_rule.py [--grid full|half|reduced] [--dt 1e-5]
+    PYTHONPATH=. .venv/bin/python benchmarks/fig12_normal_force_rule.py [--grid full|half|reduced|axis]
+        [--dt 1e-5] [--set KEY=VALUE ...]
         [--out results/fig12-normal-force-rule] [--workers N] [--figure docs/fig12_normal_force_rule.png]
 
 Runs, for fem.normal_force = "nodal" (the default) and "nominal", the study of
@@ -8,7 +9,8 @@ docs/command-line.md (the coupled scene, reduced integrator, dt = 1e-5 s or
 --dt, k_v = 2, 3, 4, 6, 20 x 25 angles over 360 deg; --grid half: the same k_v x
 13 angles over 0-180 deg, the FE answers being symmetric about 180 deg to 5e-6,
 the block and its mesh mirror-symmetric in Y; --grid reduced: k_v = 2, 6, 20 x 13
-angles over 360 deg) as `vibrofric sweep ... --fe` into OUT/nodal and
+angles over 360 deg; --grid axis: k_v = 2, 4, 6 along X, to see the step's error
+with --dt) as `vibrofric sweep ... --fe` into OUT/nodal and
 OUT/nominal (rerun to resume: finished points are kept), then prints a Markdown
 table per k_v of the FE answer against the analytic stepper beside it (the
 stepper at the slip-resolving step: fe_beside_analytic.analytic_scene) under
@@ -30,14 +32,16 @@ ROOT = Path(__file__).resolve().parents[1]
 RULES = ("nodal", "nominal")
 GRIDS = {"full": ("vibration.k_v=2,3,4,6,20", "vibration.theta_deg=0:360:25"),
          "half": ("vibration.k_v=2,3,4,6,20", "vibration.theta_deg=0:180:13"),
-         "reduced": ("vibration.k_v=2,6,20", "vibration.theta_deg=0:360:13")}
+         "reduced": ("vibration.k_v=2,6,20", "vibration.theta_deg=0:360:13"),
+         "axis": ("vibration.k_v=2,4,6", "vibration.theta_deg=0")}
 
 
-def sweep(rule: str, grid, dt: str, out: Path, workers: int) -> Path:
+def sweep(rule: str, grid, dt: str, out: Path, workers: int, more=()) -> Path:
     """Run (or resume) the study under ``rule`` into ``out``; returns its results.csv."""
     command = [sys.executable, "-m", "vibrofric.cli", "sweep", str(ROOT / "scenes" / "coupled.toml"),
                "--fe", "--set", "fem.output_every=0", "--set", "fem.integrator=reduced",
                "--set", f"time.dt={dt}", "--set", f'fem.normal_force="{rule}"',
+               *[arg for value in more for arg in ("--set", value)],
                "--grid", grid[0], "--grid", grid[1], "--out", str(out), "--workers", str(workers)]
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     subprocess.run(command, check=True, env=env, cwd=ROOT)
@@ -107,11 +111,13 @@ def main() -> int:
     parser.add_argument("--grid", choices=sorted(GRIDS), default="full")
     parser.add_argument("--out", type=Path, default=ROOT / "results" / "fig12-normal-force-rule")
     parser.add_argument("--dt", default="1e-5", help="time.dt of the FE runs, s")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="another scene key for both rules' sweeps (repeatable)")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--figure", type=Path, default=None, help="write the figure here (PNG)")
     args = parser.parse_args()
     grid = GRIDS[args.grid]
-    results = {rule: read(sweep(rule, grid, args.dt, args.out / rule, args.workers))
+    results = {rule: read(sweep(rule, grid, args.dt, args.out / rule, args.workers, args.set))
                for rule in RULES}
     print(table(results))
     if args.figure is not None:
