@@ -1,8 +1,9 @@
 """The Fig 12 FE study under each normal-force rule, against the analytic model.
 
-    PYTHONPATH=. .venv/bin/python benchmarks/fig12_normal_force_rule.py [--grid full|half|reduced|axis]
-        [--dt 1e-5] [--set KEY=VALUE ...]
-        [--out results/fig12-normal-force-rule] [--workers N] [--figure docs/fig12_normal_force_rule.png]
+    PYTHONPATH=. .venv/bin/python benchmarks/fig12_normal_force_rule.py
+        [--grid full|half|reduced|axis] [--dt 1e-5] [--set KEY=VALUE ...]
+        [--out results/fig12-normal-force-rule] [--workers N]
+        [--figure docs/fig12_normal_force_rule.png]
 
 Runs, for fem.normal_force = "nodal" (the default) and "nominal", the study of
 docs/command-line.md (the coupled scene, reduced integrator, dt = 1e-5 s or
@@ -38,8 +39,9 @@ GRIDS = {"full": ("vibration.k_v=2,3,4,6,20", "vibration.theta_deg=0:360:25"),
 
 def sweep(rule: str, grid, dt: str, out: Path, workers: int, more=()) -> Path:
     """Run (or resume) the study under ``rule`` into ``out``; returns its results.csv."""
-    command = [sys.executable, "-m", "vibrofric.cli", "sweep", str(ROOT / "scenes" / "coupled.toml"),
-               "--fe", "--set", "fem.output_every=0", "--set", "fem.integrator=reduced",
+    scene = ROOT / "scenes" / "coupled.toml"
+    command = [sys.executable, "-m", "vibrofric.cli", "sweep", str(scene), "--fe",
+               "--set", "fem.output_every=0", "--set", "fem.integrator=reduced",
                "--set", f"time.dt={dt}", "--set", f'fem.normal_force="{rule}"',
                *[arg for value in more for arg in ("--set", value)],
                "--grid", grid[0], "--grid", grid[1], "--out", str(out), "--workers", str(workers)]

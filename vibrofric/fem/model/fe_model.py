@@ -146,8 +146,8 @@ def _built_from(scene) -> str:
     return repr((scene.body.mass, tuple(scene.body.size), scene.body.E, scene.body.nu,
                  scene.body.density, scene.body.gravity, scene.fem.mesh, scene.fem.penalty,
                  scene.fem.damping, scene.fem.normal_force, scene.drive.attach,
-                 scene.drive.prescribed, scene.drive.k_d, scene.contact.F_N, scene.mu_max, bounds.stiffness,
-                 bounds.max_stiffness))
+                 scene.drive.prescribed, scene.drive.k_d, scene.contact.F_N, scene.mu_max,
+                 bounds.stiffness, bounds.max_stiffness))
 
 
 def _read_only(model: FEModel) -> FEModel:
