@@ -23,9 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...core.series import averaging_steps
 from ..outputs import trouble
 from ..model.linalg import one_blas_thread
-from ...core.series import averaging_steps
 from ..outputs.recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
                         loop_stats, node_stride, run_in_chunks)
 from ..outputs.steady import SteadyState

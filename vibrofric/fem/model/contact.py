@@ -93,9 +93,6 @@ SUBSTEP_ONSET = 0.25
 MAX_SUBSTEPS = 100_000
 
 
-NORMAL_FORCE_RULES = ("nodal", "nominal")   # the choices of fem.normal_force
-
-
 def nominal_normal(rule: str, F_N: float, area_share: np.ndarray) -> np.ndarray:
     """(n,): the normal force each node's law sees while in contact under ``rule``
     (fem.normal_force): F_N w_i under "nominal"; zeros under "nodal", which
