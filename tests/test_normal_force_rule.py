@@ -177,3 +177,29 @@ def test_on_a_flat_stiff_block_the_nominal_rule_reproduces_the_lumped_model(comm
     document = run_beside(scene, tmp_path).document
     assert document["fe"]["periodic"]["method"] == "periodic"
     assert document["rel_error"] < 0.005
+
+
+@pytest.mark.slow
+def test_a_user_law_is_passed_the_nominal_share_too(comm, monkeypatch, tmp_path):
+    """examples/laws/jenkins.py, a spring and a Coulomb slider, sliding steadily under a
+    prescribed drive without vibration: each node's force sits on its slip circle,
+    |F_i| = mu N, with N what it was passed: F_N w_i under "nominal" (to rounding,
+    1e-9: the circle's radius is mu N / k and F = k d), not its own N_i. Slow: the
+    law file is compiled into the loop (a minute)."""
+    from vibrofric.fem import run_fe
+    from vibrofric.fem import simulate
+
+    scene = scenes.load(LONGITUDINAL, [
+        "vibration.k_v=0", "drive.mode=\"velocity\"", "time.T=0.002", "time.average_cycles=2",
+        'time.method="transient"', 'fem.integrator="reduced"', "time.dt=1e-5",
+        "fem.output_every=100000", 'fem.normal_force="nominal"']).with_law(
+        str(ROOT / "examples" / "laws" / "jenkins.py"))
+    monkeypatch.setattr(simulate, "FrameWriter", LastFrame)
+    run_fe(scene, comm, vtk_dir=tmp_path)
+    state, model = LastFrame.last, LastFrame.model
+    in_contact = state.normal > 0.0
+    assert in_contact.all()
+    force = np.hypot(state.friction[:, 0], state.friction[:, 1])
+    nominal = scene.contact.F_N * model.area_share
+    assert force == pytest.approx(scene.contact.mu * nominal, rel=1e-9)
+    assert not np.allclose(state.normal, nominal, rtol=1e-3)
