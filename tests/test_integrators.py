@@ -106,17 +106,24 @@ def test_nested_dissection_orders_a_grid_for_less_fill(comm):
 
 @pytest.mark.parametrize("last", [1000, 537, 80])
 def test_recorder_returns_the_plans_rows_wherever_the_run_ends(last):
-    """Stopping at ``last`` must give exactly RecordPlan(last, stride, last - full + 1)'s rows."""
+    """Stopping at ``last`` must give exactly RecordPlan(last, stride, last - full + 1)'s
+    rows, and the nodes' normal forces of every 3rd step of any window of its last
+    ``full`` steps."""
     plan = RecordPlan(1000, 10, 901)
-    recorder = Recorder(plan, 1)
+    normal = np.zeros(2)
+    recorder = Recorder(plan, 1, normal, stride=3)
     arrays = recorder.arrays
     for i in range(1, last + 1):
         arrays[0][0] = i
+        normal[:] = i, -i
         keep(i, arrays)
     expected = RecordPlan(last, 10, max(1, last - 99))
     steps = [i for i in range(1, last + 1) if i >= expected.full_from or i % 10 == 0]
     assert recorder.table(last)[:, 0].tolist() == steps
     assert len(steps) == expected.rows
+    for window in (1, 7, min(last, recorder.full)):
+        kept = [i for i in range(last - window + 1, last + 1) if i % 3 == 0]
+        assert recorder.node_normals(last, window).tolist() == [[i, -i] for i in kept]
 
 
 def test_steady_state_stops_at_the_first_settled_cycle_boundary():

@@ -243,34 +243,37 @@ def test_1d_stepper_equals_coupled_along_x(name):
 def test_fe_node_reproduces_lumped_forces(name, overrides, contact):
     """The FE model's per-node contact (fem.model.contact) on ONE node (area share 1, normal
     force F_N), driven by the lumped stepper's own body and base trajectory, returns the
-    stepper's friction force at every step. Both call the same law update with the same
+    stepper's friction force at every step, under either fem.normal_force (one node's
+    nominal share is F_N). Both call the same law update with the same
     increments, so they agree to rounding: 1e-10 relative leaves room only for a
     different order of floating-point operations, not for a different slip, free-end
     increment, stiffness share or Coulomb limit."""
-    from vibrofric.fem.model.contact import contact_forces
+    from vibrofric.fem.model.contact import contact_forces, nominal_normal
 
     scene = short_scene(name, *overrides, **contact)
     lumped = run_coupled(scene)
     law = scene.friction
     node = contact_forces.for_law(law.law)
-    state = law.law.initial_state(1)
-    normal, force = np.zeros(1), np.zeros((1, 2))
-    old = np.array([[0.0, 0.0, -F_N]])
-    xb = yb = 0.0
-    fe = np.empty((scene.steps, 2))
-    for i in range(scene.steps):
-        new = np.array([[lumped.x[i], lumped.y[i], -F_N]])
-        # k_pen w = 1 N/m, so u_z = -F_N gives N = F_N exactly
-        total = node(old, new, np.zeros(1), lumped.x_b[i] - xb, lumped.y_b[i] - yb,
-                     scene.contact.eta_y, np.ones(1), np.ones(1), 0.0, law.params,
-                     scene.time.dt, math.inf, state, normal, force)
-        assert total[0] == F_N
-        fe[i] = total[1:]
-        old, xb, yb = new, lumped.x_b[i], lumped.y_b[i]
-    scale = np.abs(np.column_stack([lumped.F_x, lumped.F_y])).max()
-    assert scale > 0.5 * scene.F_c and np.abs(lumped.F_y).max() > 0.1 * scene.F_c
-    assert np.abs(fe[:, 0] - lumped.F_x).max() <= 1e-10 * scale
-    assert np.abs(fe[:, 1] - lumped.F_y).max() <= 1e-10 * scale
+    for rule in ("nodal", "nominal"):
+        nominal = nominal_normal(rule, F_N, np.ones(1))
+        state = law.law.initial_state(1)
+        normal, force = np.zeros(1), np.zeros((1, 2))
+        old = np.array([[0.0, 0.0, -F_N]])
+        xb = yb = 0.0
+        fe = np.empty((scene.steps, 2))
+        for i in range(scene.steps):
+            new = np.array([[lumped.x[i], lumped.y[i], -F_N]])
+            # k_pen w = 1 N/m, so u_z = -F_N gives N = F_N exactly
+            total = node(old, new, np.zeros(1), lumped.x_b[i] - xb, lumped.y_b[i] - yb,
+                         scene.contact.eta_y, np.ones(1), np.ones(1), nominal, 0.0,
+                         law.params, scene.time.dt, math.inf, state, normal, force)
+            assert total[0] == F_N
+            fe[i] = total[1:]
+            old, xb, yb = new, lumped.x_b[i], lumped.y_b[i]
+        scale = np.abs(np.column_stack([lumped.F_x, lumped.F_y])).max()
+        assert scale > 0.5 * scene.F_c and np.abs(lumped.F_y).max() > 0.1 * scene.F_c
+        assert np.abs(fe[:, 0] - lumped.F_x).max() <= 1e-10 * scale
+        assert np.abs(fe[:, 1] - lumped.F_y).max() <= 1e-10 * scale
 
 
 @pytest.mark.parametrize("theta", [0.0, 90.0], ids=["longitudinal", "transverse"])

@@ -308,7 +308,8 @@ def cmd_run(args) -> None:
     _emit(args, document,
           f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['integrator']}, {fe['dofs']} DOFs, "
           f"{fe['wall_time_s']:.1f} s{settled}), analytic {_number(analytic['F_dv_over_F_d0'])}; "
-          f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}")
+          f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}"
+          + (f"; {fe['normal_force_rule_note']}" if fe.get("normal_force_rule_note") else ""))
 
 
 def _periodic_note(summary: dict, label: str = "") -> str:

@@ -84,6 +84,7 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     from .analytic.solve import solve
     from .analytic.summary import summarize, summarize_orbit
     from .fem import run_fe
+    from .fem.outputs.normal_swing import rule_note
 
     beside = analytic_scene(scene)
     analytic_series, analytic = solve(beside)
@@ -105,7 +106,11 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
                   "integrator": info["integrator"], "integrator_choice": info["integrator_choice"],
                   "steps": info["steps"], "stopped_early": info["stopped_early"],
                   "stop_time_s": info["stop_time_s"], "saving": info["saving"],
-                  "normal_force": info["F_n_kind"]}
+                  "normal_force": info["F_n_kind"],
+                  "normal_force_node_swing": info["F_n_node_swing"],
+                  "normal_force_rule": info["normal_force_rule"],
+                  "normal_force_rule_note": rule_note(info["F_n_node_swing"],
+                                                      info["normal_force_rule"])}
     if info["F_n_kind"] == "transient" and not answered:  # its average holds part of it
                                                             # (fem/outputs/normal_swing.py)
         fe_summary["settled"] = False

@@ -137,7 +137,7 @@ def explicit_parts(run) -> list:
     vel_z = np.zeros(contacts)
 
     arguments = (disp, moved, vel_z, 0.0, 0.0, scene.contact.eta_y, model.penalty_share,
-                 model.area_share, beta, law.params, dt,
+                 model.area_share, model.nominal_normal, beta, law.params, dt,
                  sliding_length(scene), states, normal, friction)
     friction_part = Part(f"contact and friction law ({contacts} nodes)",
                          _seconds(lambda r: _contact_steps(kernel, arguments, r)), 0, 0)

@@ -12,7 +12,7 @@ from .integrators import periodic, registry
 from .integrators.cycle_map import FECycleMap
 from .model.fe_model import build_model
 from .model.linalg import one_blas_thread
-from .outputs.normal_swing import judge
+from .outputs.normal_swing import judge, node_swing
 from .outputs.paraview import FrameWriter, node_fields
 from .outputs.recording import COLUMNS, extra_columns
 
@@ -125,8 +125,9 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
     series = TimeSeries.from_table(run.table, extra_columns(scene.fem.energy))
     swing = judge(series.extra["F_n"][-averaging_steps(scene):], scene.time.dt,
                   scene.vibration.f, scene.contact.F_N, model.beta)
+    stats = {**run.stats, "F_n_node_swing": node_swing(run.node_normals)}
     clock = Clock(setup_time, run.stats["loop_time_s"], time.perf_counter() - start_time)
-    info = run_info(scene, model, integrator, run.stats, swing, writer, clock)
+    info = run_info(scene, model, integrator, stats, swing, writer, clock)
     if orbit is not None:
         info["periodic"] = periodic_block(orbit, scene)
     return FEResult(series=series, info=info, fields=last_fields(model, run.state), orbit=orbit)
@@ -149,6 +150,8 @@ def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, sta
     finally:
         if writer is not None:
             writer.close()
+    # the nodes' normal forces over the cycle cycle_frames integrated: the orbit's
+    node_normals = phi.recorder.node_normals(phi.i0 + phi.steps, phi.steps)
     f_n = orbit.cycle[:, COLUMNS.index("F_n")]
     steps = orbit.cycles_integrated * orbit.steps
     stats = {"steps": steps, "steps_planned": scene.steps, "stopped_early": False,
@@ -157,7 +160,8 @@ def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, sta
              "steady_cycles": scene.time.steady_cycles or scene.averaged_cycles,
              "steady_change": None,
              "F_n_min": float(f_n.min()), "F_n_max": float(f_n.max()),
-             "F_n_min_after_t_on": float(f_n.min()), "F_n_max_after_t_on": float(f_n.max())}
+             "F_n_min_after_t_on": float(f_n.min()), "F_n_max_after_t_on": float(f_n.max()),
+             "F_n_node_swing": node_swing(node_normals)}
     swing = judge(series.extra["F_n"][-averaging_steps(shot_scene):], shot_scene.time.dt,
                   scene.vibration.f, scene.contact.F_N, model.beta)
     clock = Clock(setup_time, orbit.solver_time_s, time.perf_counter() - start_time)
@@ -253,7 +257,9 @@ def normal_force_info(scene, model, stats: dict, swing) -> dict:
     share of the window's swing at harmonics of f), F_n_min_window_end /
     F_n_max_window_end / F_n_forced_fraction_end (the window's end),
     F_n_free_frequency_hz (the largest line of the window's swing off the harmonics
-    of f; None where steady)."""
+    of f; None where steady); and the nodes' normal forces: F_n_node_swing (their
+    swing over the window, normal_swing.node_swing) and normal_force_rule (what
+    each node's law saw: fem.normal_force)."""
     return {
         "F_n_static": float(model.normal0.sum()),
         "F_n_min": stats["F_n_min"],
@@ -268,6 +274,8 @@ def normal_force_info(scene, model, stats: dict, swing) -> dict:
         "F_n_max_window_end": swing.end_high,
         "F_n_forced_fraction_end": swing.end_forced,
         "F_n_free_frequency_hz": swing.free_frequency_hz,
+        "F_n_node_swing": stats["F_n_node_swing"],
+        "normal_force_rule": scene.fem.normal_force,
     }
 
 

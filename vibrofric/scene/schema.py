@@ -140,6 +140,10 @@ class Fem:
                                            # for speed (fem/integrators/registry.py)
     energy: bool = False                   # implicit, reduced: record the energy balance
                                            # (fem/outputs/energy.py)
+    normal_force: str = "nodal"            # the normal force each node's friction law sees:
+                                           # "nodal", its own penalty force; "nominal", its
+                                           # share F_N a_i / A while in contact (the paper's
+                                           # constant pressure; fem/model/contact.py)
 
 
 SECTIONS = {"body": Body, "contact": Contact, "drive": Drive,
@@ -149,6 +153,7 @@ CHOICES = {
     "drive.attach": ("contact-plane", "front-face"),
     "drive.mode": ("spring", "velocity"),
     "fem.integrator": ("explicit", "implicit", "reduced", "auto"),
+    "fem.normal_force": ("nodal", "nominal"),
     "time.method": ("transient", "periodic", "auto"),
 }
 

@@ -80,6 +80,7 @@ class ContactData(NamedTuple):
     normal0: np.ndarray         # (contacts,) preload normal force
     penalty_share: np.ndarray   # (contacts,) k_pen w_i
     area_share: np.ndarray      # (contacts,) w_i
+    nominal_normal: np.ndarray  # (contacts,) what each law sees in contact (contact.nominal_normal)
     tangent: np.ndarray         # (3 contacts,) l, the tangent the factorized matrix holds
     assumed: np.ndarray         # (contacts,) 1.0 where in contact at the preload
 
@@ -144,7 +145,7 @@ def still_substeps(scene) -> int:
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, forceinline=True)
 def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, contact_dofs, u0c,
-                    penalty_share, area_share, params, dt, c_v, beta, states, state):
+                    penalty_share, area_share, nominal, params, dt, c_v, beta, states, state):
     """Contact node c over the step, ending at the trial displacements (qx, qy, qz).
 
     The friction law runs over the step's sub-steps (implicit_substeps): the
@@ -171,7 +172,7 @@ def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, con
         tau = j / m
         n_i, f_x, f_y = node_contact(slip_x, slip_y, z0 + j * dz, vz0 + tau * (vz1 - vz0),
                                      base_dx[j - 1], base_free[j - 1], penalty_share[c],
-                                     area_share[c], beta, params, dt / m, state)
+                                     area_share[c], nominal[c], beta, params, dt / m, state)
     return n_i, f_x, f_y
 
 
@@ -191,7 +192,7 @@ def _contact_space(qc, xa, t, step, contact_dofs, contact, params, drive, scheme
     the trial asperity states and forces land in work (not committed).
     """
     q_old, v_old, vt, qt, base_dx, base_free = step
-    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
+    u0c, normal0, penalty_share, area_share, nominal, tangent, assumed = contact
     dt, c_v, beta = scheme.dt, scheme.c_v, scheme.beta
     k_d, v_d, prescribed = drive
     g, trial_state, state = work.g, work.trial_state, work.scratch_state
@@ -201,7 +202,8 @@ def _contact_space(qc, xa, t, step, contact_dofs, contact, params, drive, scheme
         qx, qy, qz = qc[3 * c], qc[3 * c + 1], qc[3 * c + 2]
         n_i, fx_i, fy_i = _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx,
                                           base_free, contact_dofs, u0c, penalty_share,
-                                          area_share, params, dt, c_v, beta, states, state)
+                                          area_share, nominal, params, dt, c_v, beta, states,
+                                          state)
         for k in range(state.shape[0]):
             trial_state[c, k] = state[k]
         normal_t[c], force_t[c, 0], force_t[c, 1] = n_i, fx_i, fy_i
@@ -229,7 +231,7 @@ def newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, sc
         (I - (1 - af) G_SS J_SS) d_S = -rho_S,   delta = -rho + (1 - af) G_:S J_SS d_S.
     """
     q_old, v_old, vt, qt, base_dx, base_free = step
-    u0c, normal0, penalty_share, area_share, tangent, assumed = contact
+    u0c, normal0, penalty_share, area_share, nominal, tangent, assumed = contact
     af1 = 1.0 - scheme.alpha_f
     g, normal_t, subset, jac = work.g, work.normal_t, work.subset, work.jac
     for p in range(rho.shape[0]):
@@ -258,8 +260,8 @@ def newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, sc
             else:
                 z += steps[2]
             n_i, f_x, f_y = _node_over_step(c, x, y, z, q_old, v_old, vt, qt, base_dx, base_free,
-                                            contact_dofs, u0c, penalty_share, area_share, params,
-                                            scheme.dt, scheme.c_v, scheme.beta, states,
+                                            contact_dofs, u0c, penalty_share, area_share, nominal,
+                                            params, scheme.dt, scheme.c_v, scheme.beta, states,
                                             work.scratch_state)
             g_c = _contact_g(c, n_i, f_x, f_y, x, y, z, tangent, assumed)
             for r in range(3):

@@ -136,8 +136,8 @@ def next_contact_start(disp, disp_new, friction):
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def explicit_steps(first, last, dt,
                    stiffness, inverse_mass, load, beta,
-                   contact_nodes, penalty_share, area_share, params, eta_y, sliding_length,
-                   attach_nodes, attach_weights, k_d, v_d, prescribed,
+                   contact_nodes, penalty_share, area_share, nominal, params, eta_y,
+                   sliding_length, attach_nodes, attach_weights, k_d, v_d, prescribed,
                    amplitude, omega, t_on, cos_theta, sin_theta,
                    F_N, mu_max,
                    reference, u, v, work, force_sum, disp, disp_new, vel_z,
@@ -182,8 +182,8 @@ def explicit_steps(first, last, dt,
         contact_motion(u, v, contact_nodes, disp_new, vel_z)
         f_n, f_x, f_y = contact_forces(
             disp, disp_new, vel_z, xb_new - xb, yb_new - yb, eta_y,
-            penalty_share, area_share, beta, params, dt, sliding_length, states, normal,
-            friction)
+            penalty_share, area_share, nominal, beta, params, dt, sliding_length, states,
+            normal, friction)
         magnitude = next_contact_start(disp, disp_new, friction)
         xb, yb = xb_new, yb_new
 
@@ -262,8 +262,8 @@ class ExplicitRun(TimeLoop):
             return (
                 first, last, dt,
                 stiffness, model.inverse_mass, model.load, model.beta,
-                model.contact_nodes, model.penalty_share, model.area_share, law.params, c.eta_y,
-                sliding_length(scene),
+                model.contact_nodes, model.penalty_share, model.area_share,
+                model.nominal_normal, law.params, c.eta_y, sliding_length(scene),
                 model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
                 scene.drive.prescribed,
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,

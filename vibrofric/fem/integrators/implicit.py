@@ -295,7 +295,7 @@ class ImplicitRun(TimeLoop):
                               self.e, self.h_y, self.e_xy, self.e_yy, system.contact_dofs, others,
                               system.drive_index, system.drive_x, system.drive_y)
         nodes = ContactData(u0c, model.normal0, model.penalty_share, model.area_share,
-                            self.tangent, self.assumed)
+                            model.nominal_normal, self.tangent, self.assumed)
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
         scheme = Scheme(dt, *self.coefficients, model.beta,
                         self.iteration_tolerance * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,

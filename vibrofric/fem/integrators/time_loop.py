@@ -23,10 +23,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...core.series import averaging_steps
 from ..outputs import trouble
 from ..model.linalg import one_blas_thread
 from ..outputs.recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
-                        loop_stats, run_in_chunks)
+                        loop_stats, node_stride, run_in_chunks)
 from ..outputs.steady import SteadyState
 
 
@@ -99,7 +100,8 @@ class TimeLoop:
         law = scene.friction.law
         contact = ContactState.at_preload(self.model, law)
         scalars = initial_scalars(self.extra_scalars)
-        recorder = Recorder(plan, len(columns(scene.fem.energy)))
+        recorder = Recorder(plan, len(columns(scene.fem.energy)), contact.normal,
+                            node_stride(scene))
         steady = SteadyState(scene)
         started = self.start(contact, scalars, recorder, steady)
 
@@ -121,4 +123,6 @@ class TimeLoop:
                                             onset)
         stats = {**loop_stats(scalars, loop_time), **self.stats(scalars, last),
                  **steady.report(last)}
-        return Integration(recorder.table(last), state(last), stats)
+        window = min(averaging_steps(scene), recorder.full, last)
+        return Integration(recorder.table(last), state(last), stats,
+                           recorder.node_normals(last, window))

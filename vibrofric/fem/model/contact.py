@@ -32,10 +32,34 @@ the analogue of Abaqus' VFRIC subroutine. Each step every contact node gets
 exactly as the lumped stepper (analytic/coupled.py) does for its single node,
 and returns the friction force F_i (eqs 1, 38-39); it acts on the body node as
 -F_i. The lumped model is the case of one node with w = 1 and N = F_N.
+
+The normal force the law sees (``fem.normal_force``). The block pitches as it
+slides and vibrates, so each node's N_i swings over the cycle (on the paper's
+steel block by +-67% about its mean, docs/friction-laws.md), and what the
+law's state does when N_i changes (contact.normal_change of the asperity laws)
+moves the FE answer by several percent. The paper's Abaqus model assumed the
+normal contact pressure constant (its conclusion; the paper: docs/model.md).
+The two rules:
+
+    "nodal"    (default) the law sees N_i, the node's own penalty force above;
+    "nominal"  the law sees N_i^nom = F_N w_i, the node's nominal share of the
+               normal load (the same share w_i its stiffness k_t w_i takes),
+               while the node is in contact (N_i > 0); out of contact it sees
+               N_i = 0 and is released as under "nodal". The Coulomb limit is
+               then mu F_N w_i at every step: a uniform, constant pressure.
+
+Only what the law is passed changes: the normal contact stays the penalty
+spring, its force N_i still acts on the body and is what the summed normal
+force and the outputs report. The lumped model has one node with N = F_N
+under either rule. The rule is a setting of the FE model ([fem]), not a key of
+[contact]: [contact] holds the friction law's parameters (a user's law may
+name its own), and the lumped model, which [contact] also describes, has no
+nodes to choose for.
 """
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ...core.law_limits import SLIP_PER_STEP
@@ -69,6 +93,15 @@ SUBSTEP_ONSET = 0.25
 MAX_SUBSTEPS = 100_000
 
 
+def nominal_normal(rule: str, F_N: float, area_share: np.ndarray) -> np.ndarray:
+    """(n,): the normal force each node's law sees while in contact under ``rule``
+    (fem.normal_force): F_N w_i under "nominal"; zeros under "nodal", which
+    law_normal_force reads as "the node's own penalty force"."""
+    if rule == "nominal":
+        return F_N * area_share
+    return np.zeros_like(area_share)
+
+
 def default_penalty(E: float, size) -> float:
     """Penalty stiffness of the whole contact face, N/m: PENALTY_FACTOR E A / L_z."""
     Lx, Ly, Lz = size
@@ -88,23 +121,35 @@ def normal_force(u_z, v_z, penalty_share, beta):
     return penalty_share * min(closing, -2.0 * u_z)
 
 
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def law_normal_force(n_i, nominal):
+    """The normal force a node's law sees (module docstring, fem.normal_force): its
+    penalty force n_i where ``nominal`` is 0 ("nodal"), else ``nominal`` = F_N w_i
+    while the node is in contact (n_i > 0) and n_i (0: released) out of it."""
+    if nominal > 0.0 and n_i > 0.0:
+        return nominal
+    return n_i
+
+
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, inline="always")
-def node_contact(slip_x, slip_y, u_z, v_z, dx_b, free_y, penalty_share, w, beta, params, dt,
-                 state):
+def node_contact(slip_x, slip_y, u_z, v_z, dx_b, free_y, penalty_share, w, nominal, beta,
+                 params, dt, state):
     """One node's step: (N_i, F_x, F_y) after the body moved by (slip_x, slip_y) and
     reached height u_z at speed v_z, the base by dx_b and the free end by free_y; the
-    node's law ``state`` is updated in place (the VFRIC call)."""
+    node's law ``state`` is updated in place (the VFRIC call). N_i is the penalty
+    force; the law sees law_normal_force(N_i, nominal) (``nominal``: the node's
+    entry of nominal_normal)."""
     n_i = normal_force(u_z, v_z, penalty_share, beta)
     f_x, f_y = law_update(  # noqa: F821 (the scene's law, friction_law/specialize.py)
         slip_x - dx_b, slip_y,      # phase 1: body minus base in X (eq 14), body in Y
         0.0, free_y,                # phase 2: the free end by eta_y dy_b (eq 30)
-        n_i, w, state, params, dt)
+        law_normal_force(n_i, nominal), w, state, params, dt)
     return n_i, f_x, f_y
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
-                   penalty_share, area_share, beta, params, dt, sliding_length,
+                   penalty_share, area_share, nominal, beta, params, dt, sliding_length,
                    states, normal, force):
     """Advance every contact node by one step; outputs are written in place.
 
@@ -112,6 +157,7 @@ def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
     vel_z               (n,) their Z velocities at the end of the step
     dx_b, dy_b          the base's increment over the step (eqs 24-25)
     penalty_share       (n,) k_pen w_i;  area_share (n,) w_i
+    nominal             (n,) nominal_normal: what each node's law sees in contact
     params              the law's parameters (friction_law.ContactLaw.params)
     sliding_length      the law's s_c (m) for the sub-steps: a node whose slip in the step,
                         |du_x - dx_b| + |du_y| + |eta_y dy_b|, is more than SUBSTEP_ONSET
@@ -139,8 +185,8 @@ def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
         for _ in range(substeps):   # (dividing by 1 is exact: one update as before)
             n_i, f_x, f_y = node_contact(
                 slip_x / substeps, slip_y / substeps, disp_new[i, 2], vel_z[i],
-                dx_b / substeps, free_y / substeps, penalty_share[i], area_share[i], beta,
-                params, dt / substeps, states[i])
+                dx_b / substeps, free_y / substeps, penalty_share[i], area_share[i],
+                nominal[i], beta, params, dt / substeps, states[i])
         normal[i] = n_i
         force[i, 0] = f_x
         force[i, 1] = f_y

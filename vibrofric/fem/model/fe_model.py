@@ -8,7 +8,8 @@
    after the first run on the same block (model_cache.py);
 2. the normal load (loads.py): gravity + top pressure, total F_N;
 3. the contact (contact.py): the contact-face nodes, their area shares
-   w_i = a_i / A and penalty springs k_pen w_i;
+   w_i = a_i / A and penalty springs k_pen w_i, and the normal force each
+   node's law sees under fem.normal_force (contact.nominal_normal);
 4. the drive's attachment nodes and weights (drive.py);
 5. the static preload u0 (preload.py);
 6. the highest frequency, the damping and the stable step (stability.py).
@@ -44,7 +45,7 @@ from ...core.errors import DriveTipsBlock, StepTooLong
 from . import stability
 from . import model_cache
 from .assembly import Discretization
-from .contact import default_penalty
+from .contact import default_penalty, nominal_normal
 from .drive import attachment, drive_stiffness_action
 from .loads import normal_load, top_pressure
 from .linalg import dof_points, nested_dissection
@@ -64,6 +65,8 @@ class FEModel:
     area_share: np.ndarray     # (n,) w_i = a_i / A, sum 1
     penalty: float             # N/m, whole face
     penalty_share: np.ndarray  # (n,) k_pen w_i
+    nominal_normal: np.ndarray  # (n,) F_N w_i under fem.normal_force "nominal", else 0
+                                # (contact.nominal_normal)
     attach_nodes: np.ndarray
     attach_weights: np.ndarray
     u0: np.ndarray             # (dofs,) static preload displacement
@@ -142,9 +145,9 @@ def _built_from(scene) -> str:
     bounds = scene.law_bounds
     return repr((scene.body.mass, tuple(scene.body.size), scene.body.E, scene.body.nu,
                  scene.body.density, scene.body.gravity, scene.fem.mesh, scene.fem.penalty,
-                 scene.fem.damping, scene.drive.attach, scene.drive.prescribed,
-                 scene.drive.k_d, scene.contact.F_N, scene.mu_max, bounds.stiffness,
-                 bounds.max_stiffness))
+                 scene.fem.damping, scene.fem.normal_force, scene.drive.attach,
+                 scene.drive.prescribed, scene.drive.k_d, scene.contact.F_N, scene.mu_max,
+                 bounds.stiffness, bounds.max_stiffness))
 
 
 def _read_only(model: FEModel) -> FEModel:
@@ -204,7 +207,10 @@ def _built(scene, comm) -> FEModel:
     return FEModel(disc=disc, density=rho, block_mass=block_mass, pressure=pressure, load=load,
                    inverse_mass=1.0 / disc.mass, contact_nodes=contact_nodes,
                    contact_area=contact_area, area_share=area_share, penalty=penalty,
-                   penalty_share=penalty_share, attach_nodes=attach_nodes,
+                   penalty_share=penalty_share,
+                   nominal_normal=nominal_normal(scene.fem.normal_force, scene.contact.F_N,
+                                                 area_share),
+                   attach_nodes=attach_nodes,
                    attach_weights=attach_weights, u0=u0, normal0=normal0,
                    elimination_order=elimination_order,
                    omega_max=omega_max, beta=beta, dt_stable=dt_stable)

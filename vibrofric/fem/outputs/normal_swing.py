@@ -1,5 +1,6 @@
-"""The summed normal force over the averaging window: steady, rocking, a transient,
-or ringing.
+"""The normal force over the averaging window: the sum's judged steady, rocking, a
+transient, or ringing; the nodes' swing, and whether it makes the normal-force rule
+matter.
 
 The in-plane load moves the sum of the contact nodes' normal forces, sum N_i,
 only through the block's vertical inertia. A sound run shows one of:
@@ -26,6 +27,19 @@ only through the block's vertical inertia. A sound run shows one of:
   end. The spec's trap (loads applied at once, no damping: 44-69 N instead of
   55 N, a drive force 25% off) and a block bouncing on its contact (a front-face
   drive at mu = 0.3: 41-71 N, 0.3% at harmonics) are refused (NumericalError).
+
+The nodes' normal forces swing even where their sum holds: the block pitches
+with the friction force at the contact plane and its inertia at mid-height, and
+the pressure moves between the face's front and back rows in step with the
+friction force (docs/friction-laws.md). ``node_swing`` measures it over the
+window: each node's half range of N_i, summed over the nodes, over the sum of
+their means; the fraction of the normal load that moves between the nodes (0
+for a constant distribution, 1/2 for a linear one tilting from zero at the back
+edge to zero at the front). What a node's law does as its N_i changes is the
+normal-force rule (fem.normal_force, "nodal" or "nominal"; the asperity laws'
+contact.normal_change), which the lumped model, its F_N constant, never meets.
+Above RULE_MATTERS the rule moves F_dv/F_d0 by more than the step's error, and
+the run says so (rule_note).
 """
 
 from dataclasses import dataclass
@@ -35,6 +49,9 @@ import numpy as np
 from ...core.errors import NumericalError
 
 STEADY_NORMAL = 0.01
+# node_swing above which the normal-force rule matters (measured: docs/validation.md,
+# "The normal-force rule").
+RULE_MATTERS = 0.1
 FORCED_FRACTION = 0.95
 # The window's end: this fraction of its whole cycles of f, at least END_CYCLES
 # (forced_fraction needs a few cycles to tell harmonics from a free mode).
@@ -86,6 +103,28 @@ class NormalSwing:
     end_high: float
     end_forced: float
     free_frequency_hz: float | None
+
+
+def node_swing(samples) -> float:
+    """The nodes' swing (module docstring) of ``samples`` (times, nodes) of N_i:
+    sum_i (max_t N_i - min_t N_i) / 2 over sum_i mean_t N_i."""
+    samples = np.asarray(samples)
+    load = samples.mean(axis=0).sum() if samples.size else 0.0
+    if load <= 0.0:
+        return 0.0
+    return float((samples.max(axis=0) - samples.min(axis=0)).sum() / (2.0 * load))
+
+
+def rule_note(swing: float, rule: str) -> str | None:
+    """Where ``swing`` (node_swing) exceeds RULE_MATTERS, one line saying the answer
+    depends on the normal-force rule, naming the one the run used (``rule``,
+    fem.normal_force) and the other; else None."""
+    if swing <= RULE_MATTERS:
+        return None
+    other = "nominal" if rule == "nodal" else "nodal"
+    return (f"the contact nodes' normal forces swing by {swing:.0%} of their mean over the "
+            f"averaging window (the block pitches): the answer depends on the normal-force "
+            f"rule, here fem.normal_force = \"{rule}\"; compare \"{other}\"")
 
 
 def _swings(values, F_N: float) -> bool:

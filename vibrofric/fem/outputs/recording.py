@@ -11,6 +11,11 @@ buffer as well; ``Recorder.table(last)`` then returns exactly the rows that
 RecordPlan(last, stride, last - full + 1) names: the series ends where the run
 stopped, at full resolution over its last ``full`` steps, and
 analytic.summary.summarize averages the settled cycles.
+
+Beside the rows, the contact nodes' normal forces N_i over the same last
+``full`` steps, every ``node_stride``-th step (at least NODE_SAMPLES_PER_CYCLE
+a vibration cycle), in a ring of their own (``Recorder.node_normals``): what
+the normal-force rule acts on (normal_swing.node_swing).
 """
 
 import time
@@ -27,6 +32,10 @@ from .steady import settled
 
 # The recorded table: the analytic TimeSeries columns, then the summed normal force.
 COLUMNS = SERIES_COLUMNS + ("F_n",)
+# The nodes' normal forces are kept at least this often a vibration cycle (their swing's
+# extremes to ~0.2% of it for a sinusoid: 1 - cos(pi / 50); benchmarks/normal_force_swing.py
+# samples as often).
+NODE_SAMPLES_PER_CYCLE = 50
 
 # fem.energy adds, cumulative from t = 0 and relative to the static preload (J):
 #   W_drive  work of the drive point B on the spring: int F_d v_d dt
@@ -84,23 +93,46 @@ class Integration:
     table: np.ndarray       # (rows, len(columns))
     state: State            # at the end of the run
     stats: dict
+    node_normals: np.ndarray  # (samples, contacts): N_i over the averaging window (Recorder)
+
+
+def node_stride(scene) -> int:
+    """Steps between two kept samples of the nodes' normal forces: NODE_SAMPLES_PER_CYCLE
+    a vibration cycle or more (every step where a cycle has fewer steps)."""
+    return max(1, int(1.0 / (NODE_SAMPLES_PER_CYCLE * scene.vibration.f * scene.time.dt)))
 
 
 class Recorder:
-    """The kept rows of a run that may stop before ``plan.steps``."""
+    """The kept rows of a run that may stop before ``plan.steps``, and its contact
+    nodes' normal forces every ``stride`` steps over the last ``full`` steps: those the
+    loop writes into ``normal`` (time_loop.ContactState.normal) at each step."""
 
-    def __init__(self, plan: RecordPlan, ncols: int):
+    def __init__(self, plan: RecordPlan, ncols: int, normal=None, stride: int = 1):
         self.plan = plan
         self.full = plan.steps - plan.full_from + 1
         self.strided = np.empty((plan.steps // plan.stride, ncols))
         self.ring = np.empty((self.full, ncols))
         self.count = np.zeros(1, dtype=np.int64)  # strided rows written
         self.row = np.empty(ncols)                # the row being filled
+        self.normal = np.empty(0) if normal is None else normal
+        self.node_stride = stride
+        self.node_ring = np.empty((self.full // stride + 1, self.normal.size))
 
     @property
     def arrays(self):
-        """What the numba loops take: (row, strided, ring, count, stride)."""
-        return self.row, self.strided, self.ring, self.count, self.plan.stride
+        """What the numba loops take: (row, strided, ring, count, stride, normal,
+        node_ring, node_stride)."""
+        return (self.row, self.strided, self.ring, self.count, self.plan.stride,
+                self.normal, self.node_ring, self.node_stride)
+
+    def node_normals(self, last: int, steps: int) -> np.ndarray:
+        """(samples, nodes): the nodes' normal forces kept over steps last - steps + 1 ..
+        last (steps <= full), in step order."""
+        assert steps <= self.full
+        stride = self.node_stride
+        first = -(-(last - steps + 1) // stride) * stride     # the first multiple of stride
+        kept = np.arange(first, last + 1, stride) // stride
+        return self.node_ring[kept % self.node_ring.shape[0]]
 
     def table(self, last: int) -> np.ndarray:
         """The rows of RecordPlan(last, stride, max(1, last - full + 1)), in step order."""
@@ -114,17 +146,21 @@ class Recorder:
 
 @njit(cache=True)
 def keep(i, recorder):
-    """Keep the filled ``row`` as step i's: in the ring, and if i is a stride multiple."""
-    row, strided, ring, count, stride = recorder
+    """Keep the filled ``row`` as step i's: in the ring, and if i is a stride multiple;
+    and the nodes' ``normal`` forces if i is a node_stride multiple."""
+    row, strided, ring, count, stride, normal, node_ring, node_stride = recorder
     ring[i % ring.shape[0], :] = row
     if i % stride == 0:
         strided[count[0], :] = row
         count[0] += 1
+    if i % node_stride == 0:
+        node_ring[(i // node_stride) % node_ring.shape[0], :] = normal
 
 
 @njit(cache=True, error_model="numpy")
 def keep_step(i, f_d, recorder, steady):
-    """Keep step i's row; True when the run may stop after it (steady.settled)."""
+    """Keep step i's row and its nodes' normal forces; True when the run may stop after
+    it (steady.settled)."""
     keep(i, recorder)
     return settled(i, f_d, steady)
 
