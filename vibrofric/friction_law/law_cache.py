@@ -11,8 +11,12 @@ they go to ``disk_cache.cache_root()/numba`` instead (``$VIBROFRIC_CACHE/numba``
 else ``$XDG_CACHE_HOME/vibrofric/numba``, else ``~/.cache/vibrofric/numba``), in
 the subdirectory numba's own NUMBA_CACHE_DIR locator would give the source file.
 The built-in laws' loops stay in the package's ``__pycache__``, where ``make
-setup`` compiles them (vibrofric warm). A user who sets NUMBA_CACHE_DIR keeps
-numba's own choice for everything.
+setup`` compiles them (vibrofric warm). The law's own functions (its update, as
+specialize._called compiles it for the loops) stay beside the law's file, which
+is the user's: moved here too, a law that fails only after many calls
+(tests/test_law_contract.py, "indexes-outside-after-many-calls") ran on without
+its bounds check's IndexError, which was not looked into. A user who sets
+NUMBA_CACHE_DIR keeps numba's own choice for everything.
 """
 
 import os

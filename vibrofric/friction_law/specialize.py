@@ -199,8 +199,6 @@ def _called(law, name: str):
         py_func = getattr(function, "py_func", function)
         _CALLED[key] = njit(cache=True, **{"error_model": "numpy", "fastmath": FASTMATH,
                                            "forceinline": False, **options})(py_func)
-        if law.name not in BUILT_IN:
-            cache_in_user_directory(_CALLED[key])
     return _CALLED[key]
 
 
