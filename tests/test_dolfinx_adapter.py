@@ -213,10 +213,15 @@ def test_frames_from_the_arrays_match_dolfinxs_own(tmp_path, monkeypatch):
     (piece,) = (tmp_path / "dolfinx").glob("*.vtu")   # one process: one piece
     theirs = pyvista.read(piece)
 
-    # FrameWriter, its fields those above
+    # FrameWriter, its fields those above, and cell fields of its own (DOLFINx 0.5's
+    # VTKFile writes no cell data to compare with: VTK's reader reads them back)
+    cells = adapter.hexahedra(V)
+    cell_values = {name: rng.standard_normal((cells.shape[0], 9) if name == "stress"
+                                             else cells.shape[0])
+                   for name in paraview.CELL_FIELDS}
     monkeypatch.setattr(paraview, "node_fields", lambda model, state: values)
-    model = SimpleNamespace(disc=SimpleNamespace(coordinates=coordinates,
-                                                 cells=adapter.hexahedra(V)))
+    monkeypatch.setattr(paraview, "cell_fields", lambda model, state: cell_values)
+    model = SimpleNamespace(disc=SimpleNamespace(coordinates=coordinates, cells=cells))
     writer = paraview.FrameWriter(model, tmp_path / "meshio")
     writer(SimpleNamespace(t=0.25))
     writer.close()
@@ -248,3 +253,65 @@ def test_frames_from_the_arrays_match_dolfinxs_own(tmp_path, monkeypatch):
         assert np.array_equal(mine, values[name]), name
         scale = np.abs(values[name]).max()
         assert np.allclose(mine, dolfinx_values[match], rtol=0, atol=1e-15 * scale), name
+    assert set(ours.cell_data.keys()) == set(paraview.CELL_FIELDS)
+    for name in paraview.CELL_FIELDS:
+        assert np.array_equal(np.asarray(ours.cell_data[name]), cell_values[name]), name
+
+
+# --- the cell stresses of the frames (dolfinx_adapter.cell_stress) -----------------------
+
+@pytest.fixture(scope="module")
+def coarse_stress(tmp_path_factory):
+    """The coarse block's node positions, cells (hexahedra) and cell stress operator."""
+    mp = pytest.MonkeyPatch()
+    mp.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
+    try:
+        mesh, _ = adapter.load_block(MPI.COMM_SELF, SIZE, "coarse")
+    finally:
+        mp.undo()
+    V = adapter.vector_space(mesh)
+    return adapter.node_coordinates(V), adapter.hexahedra(V), adapter.cell_stress(V, E, NU)
+
+
+def uniform_strain_displacement(X, sigma):
+    """u = eps x at the nodes X, eps = C^-1 sigma (isotropic Hooke's law: the strain
+    of the uniform stress tensor ``sigma``)."""
+    eps = ((1 + NU) * sigma - NU * np.trace(sigma) * np.eye(3)) / E
+    return (X @ eps.T).ravel()
+
+
+@pytest.mark.parametrize("state", ["uniaxial", "shear", "hydrostatic"])
+def test_cell_stress_of_a_uniform_stress_state_and_its_von_mises(coarse_stress, state):
+    """A displacement linear in x (Q1 holds it exactly) of a known uniform stress gives
+    that stress in every cell, and von Mises its textbook value: uniaxial s -> s, pure
+    shear t -> sqrt(3) t, hydrostatic p -> 0. 1e-9 of s: the cell means are sums of
+    ~24 products of gradients (1e2 /m) and displacements (1e-6 m), rounded to ~1e-16
+    relative each; 1e-9 is far below a wrong factor or a swapped component."""
+    from vibrofric.fem.outputs.paraview import TENSOR_OF_VOIGT, von_mises
+
+    X, cells, S = coarse_stress
+    s = 1e6   # Pa
+    sigma, expected = {"uniaxial": (np.diag([s, 0.0, 0.0]), s),
+                       "shear": (np.array([[0.0, s, 0.0], [s, 0.0, 0.0], [0.0, 0.0, 0.0]]),
+                                 np.sqrt(3.0) * s),
+                       "hydrostatic": (-s * np.eye(3), 0.0)}[state]
+    voigt = (S @ uniform_strain_displacement(X, sigma)).reshape(-1, 6)
+    assert voigt.shape == (cells.shape[0], 6)
+    assert np.allclose(voigt[:, TENSOR_OF_VOIGT], sigma.ravel(), rtol=0, atol=1e-9 * s)
+    assert np.allclose(von_mises(voigt), expected, rtol=0, atol=1e-9 * s)
+
+
+def test_cell_stress_rows_are_the_cells_of_the_frames(coarse_stress):
+    """u_x = a x^2 / 2: eps_xx = a x, so each cell's mean sigma_xx is (lambda + 2 G) a
+    times its centre's x (the Q1 interpolant's slope over a cell is exactly the mean
+    of x there), and the rows follow the cells the frames are written with
+    (``hexahedra``): a stress drawn on the wrong cells fails. 1e-9: rounding, as above."""
+    X, cells, S = coarse_stress
+    a = 1e-3   # 1/m
+    u = np.zeros_like(X)
+    u[:, 0] = a * X[:, 0] ** 2 / 2
+    sigma_xx = (S @ u.ravel()).reshape(-1, 6)[:, 0]
+    lame, shear = E * NU / ((1 + NU) * (1 - 2 * NU)), E / (2 * (1 + NU))
+    centres = X[cells].mean(axis=1)
+    expected = (lame + 2 * shear) * a * centres[:, 0]
+    assert np.allclose(sigma_xx, expected, rtol=0, atol=1e-9 * np.abs(expected).max())

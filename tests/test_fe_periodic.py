@@ -1,6 +1,7 @@
 """The FE model's steady state by shooting (fem/integrators/periodic.py, fem/integrators/cycle_map.py)."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -109,6 +110,13 @@ def test_vibrofric_run_reports_the_block_and_writes_one_steady_cycle(tmp_path, c
     assert len(frames) == periodic.FRAMES_PER_CYCLE + 1
     series = np.genfromtxt(out / "timeseries.csv", delimiter=",", names=True)
     assert series["t"][-1] == pytest.approx(0.3)
+    # The frames are the cycle the series ends with: the last at time.T itself (the
+    # pvd's times as written, repr of floats), the first one base period before
+    times = [float(t) for t in re.findall(r'timestep="([^"]+)"',
+                                          (out / "paraview" / "block.pvd").read_text())]
+    assert times[-1] == 0.3
+    assert times[-1] - times[0] == pytest.approx(1.0 / 4000.0, rel=1e-9)
+    assert np.all(np.diff(times) > 0)
 
 
 # --- sweeps by continuation (vibrofric sweep) -----------------------------------------------

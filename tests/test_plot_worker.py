@@ -42,8 +42,11 @@ def test_plots_are_those_drawn_in_one_process(tmp_path, started):
     assert main(["analytic", LONGITUDINAL, *SHORT, "--out", str(out)]) == 0
     assert len(started) == 1 and started[0].returncode == 0
     scene = scene_module.load(LONGITUDINAL, ["time.T=0.2"])
-    runs = {"coupled": written(solve(scene)[0], scene)}
-    plots.drive_force_history(runs, scene, tmp_path / "drive_force.png")
+    series, summary = solve(scene)
+    runs = {"coupled": written(series, scene)}
+    steady = plot_worker.steady_labels({"coupled": summary})
+    assert steady == ("coupled",)   # the default method answers by the steady cycle
+    plots.drive_force_history(runs, scene, tmp_path / "drive_force.png", steady)
     plots.friction_last_cycles(runs, scene, tmp_path / "friction_last_cycles.png")
     for name in ("drive_force.png", "friction_last_cycles.png"):
         assert (out / name).read_bytes() == (tmp_path / name).read_bytes(), name

@@ -210,13 +210,15 @@ def run_analytic(scene: "Scene", out: str | Path | None = None, *, stepper: str 
     series, summary = solve(scene, stepper)
     if target is not None:
         from . import plots
+        from .plot_worker import steady_labels
 
         rows = written(series, scene, full_series)
         with output.staged(target, "analytic", claimed=False) as stage:
             output.write_scene(stage, scene)
             output.write_summary(stage, {"analytic": summary, "stepper": stepper})
             output.write_timeseries(stage, rows)
-            plots.drive_force_history({stepper: rows}, scene, stage / "drive_force.png")
+            plots.drive_force_history({stepper: rows}, scene, stage / "drive_force.png",
+                                      steady_labels({stepper: summary}))
             plots.friction_last_cycles({stepper: rows}, scene, stage / "friction_last_cycles.png")
     return Result(summary, _frame(series), target)
 
@@ -242,15 +244,17 @@ def write_fe_run(scene: "Scene", stage: Path,
     JSON, with "out" where ``out`` is given."""
     from . import output
     from .fe_beside_analytic import run_beside, write_beside
-    from .plot_worker import PlotProcess, plots_job
+    from .plot_worker import PlotProcess, plots_job, steady_labels
 
     # started first: it imports matplotlib while the FE run goes on
     with PlotProcess("fe") as plotter:
         done = run_beside(scene, stage, progress=progress)
         document = {**done.document, "out": out} if out is not None else done.document
         runs = {"FE": done.fe.series, "analytic": done.analytic_series}
+        steady = steady_labels({"FE": done.document["fe"], "analytic": done.document["analytic"]})
         job = plots_job(runs, scene, stage, fe=done.fe.series,
-                        picture=done.fe.fields if done.fe_info["frames"] else None)
+                        picture=done.fe.fields if done.fe_info["frames"] else None,
+                        steady=steady, fe_steady="FE" in steady)
         with plotter.drawing(job):   # it draws while the files are written
             write_beside(stage, scene, done, full_series)
             output.write_summary(stage, {**document, "fe_info": done.fe_info})

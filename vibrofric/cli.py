@@ -192,7 +192,7 @@ def _locked_out(args, command: str):
 
 
 def cmd_analytic(args) -> None:
-    from .plot_worker import PlotProcess, one_blas_thread, plots_job
+    from .plot_worker import PlotProcess, one_blas_thread, plots_job, steady_labels
 
     with PlotProcess() as plotter:  # first: it imports matplotlib while numba loads here
         with one_blas_thread():  # numpy loads here: no BLAS threads to spin on the other core
@@ -212,7 +212,8 @@ def cmd_analytic(args) -> None:
         series = written(series, scene, args.full_series)  # the summary is of every kept row
         target = target or output.default_dir(scene.name)
         with output.staged(target, "analytic", claimed=claim) as stage:
-            with plotter.drawing(plots_job({args.stepper: series}, scene, stage)):
+            with plotter.drawing(plots_job({args.stepper: series}, scene, stage,
+                                           steady=steady_labels({args.stepper: summary}))):
                 output.write_scene(stage, scene)
                 output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
                 output.write_timeseries(stage, series)

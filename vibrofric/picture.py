@@ -1,8 +1,9 @@
 """A picture of the block at the run's last step (matplotlib's 3D axes, Agg).
 
 The contact face coloured by contact pressure, with the friction traction as
-arrows, inside the block drawn translucent, seen from below, in front of the
-drive. It is drawn from the node fields of the run's last step (the last
+arrows (their direction; the range of their magnitude is written below), inside
+the block drawn translucent, seen from below, in front of the drive, on axes in
+mm. It is drawn from the node fields of the run's last step (the last
 ParaView frame's: fem/outputs/paraview.py), which the command sends to its plot
 process (plot_worker.py, kind "fe"), so it is drawn beside the plots with the
 library already loaded there and without reading the frame back.
@@ -20,6 +21,7 @@ PNG = {"dpi": DPI, "pil_kwargs": {"compress_level": 1}}  # as plots.RUN_PNG
 # Seen from below, in front of the drive: the view direction (0.8, -1.2, -0.9) as
 # matplotlib's elevation and azimuth, degrees.
 VIEW = {"elev": -31.6, "azim": -56.3}
+AXES = (0.0, 0.08, 0.78, 0.82)        # left, bottom, width, height: fractions of the figure
 COLOUR_BAR = (0.78, 0.2, 0.03, 0.56)   # left, bottom, width, height: fractions of the figure
 SUBDIVISIONS = 1  # each triangle of the contact face split in 4^SUBDIVISIONS, the pressure
                   # interpolated linearly over them: a smooth map without shading support
@@ -52,7 +54,7 @@ def _box_faces(low, high) -> list:
 
 def draw(rows: dict, png_path) -> None:
     """Draw ``rows`` (picture_rows) into ``png_path``."""
-    from matplotlib import cm, colors
+    from matplotlib import cm, colors, ticker
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.tri import Triangulation, UniformTriRefiner
@@ -64,7 +66,7 @@ def draw(rows: dict, png_path) -> None:
 
     fig = Figure(figsize=SIZE_IN, dpi=DPI)
     FigureCanvasAgg(fig)
-    ax = fig.add_axes((0.0, 0.0, 0.78, 0.95), projection="3d", computed_zorder=False)
+    ax = fig.add_axes(AXES, projection="3d", computed_zorder=False)
     ax.add_collection3d(Poly3DCollection(_box_faces(low, high), facecolor=(0.83, 0.83, 0.83, 0.2),
                                          edgecolor="black", linewidth=0.6))
 
@@ -93,10 +95,23 @@ def draw(rows: dict, png_path) -> None:
     ax.set(xlim=(lower[0], upper[0]), ylim=(lower[1], upper[1]), zlim=(lower[2], upper[2]))
     ax.set_box_aspect(upper - lower)
     ax.view_init(**VIEW)
-    ax.set_axis_off()
+    in_mm = ticker.FuncFormatter(lambda value, _: f"{value * 1e3:.3g}")
+    for axis, name in ((ax.xaxis, "x"), (ax.yaxis, "y"), (ax.zaxis, "z")):
+        axis.set_major_formatter(in_mm)
+        axis.set_major_locator(ticker.MaxNLocator(4))
+        axis.set_pane_color((1.0, 1.0, 1.0, 0.0))   # no grey walls behind the block
+    ax.set_xlabel("x (mm)", fontsize=8, labelpad=-2)
+    ax.set_ylabel("y (mm)", fontsize=8, labelpad=-2)
+    ax.set_zlabel("z (mm)", fontsize=8, labelpad=-2)
+    ax.tick_params(labelsize=7, pad=-2)
+    ax.grid(False)
     # the colour bar in axes of its own at the right (no re-layout of the 3D axes)
     fig.colorbar(cm.ScalarMappable(norm, cm.viridis), cax=fig.add_axes(COLOUR_BAR), format="%.3g",
                  label="contact pressure (Pa)")
-    fig.suptitle(f"t = {rows['t']:.4g} s: contact pressure, friction traction (arrows)",
+    fig.suptitle(f"t = {rows['t']:.6g} s: contact pressure, friction traction (arrows)",
                  fontsize=10)
+    fig.text(0.02, 0.02, "block undeformed, seen from below, sliding along +x; arrows: the "
+             "friction traction's direction, all one length,\n"
+             f"its magnitude {magnitude.min():.3g} to {magnitude.max():.3g} Pa "
+             "(the force of the block on the base, paper sign)", fontsize=8)
     fig.savefig(png_path, **PNG)

@@ -134,19 +134,31 @@ def one_blas_thread():
             os.environ.pop(name, None)
 
 
-def plots_job(runs: dict, scene, directory: Path, fe=None, picture=None) -> dict:
+def plots_job(runs: dict, scene, directory: Path, fe=None, picture=None, steady=(),
+              fe_steady: bool = False) -> dict:
     """What the plots of ``runs`` (a label to a TimeSeries) draw into ``directory``;
-    with ``fe``, an FE run's TimeSeries, its normal force plot too; with ``picture``,
-    the FE run's last node fields (FEResult.fields), the block's picture too."""
+    with ``fe``, an FE run's TimeSeries, its normal force plot too (``fe_steady``: the
+    run answered by its steady cycle); with ``picture``, the FE run's last node fields
+    (FEResult.fields), the block's picture too. ``steady``: the labels of the runs
+    answered by their steady cycle (steady_labels), drawn against the base's phase
+    where all are (plots.drive_force_figure)."""
     job = {"directory": Path(directory).absolute(), "scene": plotted_scene(scene),
-           **plotted_rows(runs, scene)}
+           "steady": tuple(steady), **plotted_rows(runs, scene)}
     if fe is not None:
         job["normal"] = SimpleNamespace(t=fe.t, extra={"F_n": fe.extra["F_n"]})
+        job["normal_steady"] = fe_steady
     if picture is not None:
         from .picture import picture_rows
 
         job["picture"] = picture_rows(picture)
     return job
+
+
+def steady_labels(summaries: dict) -> tuple:
+    """The labels of ``summaries`` (a label to a run's summary) whose answer is their
+    steady cycle (the summary's periodic block says method "periodic")."""
+    return tuple(label for label, summary in summaries.items()
+                 if (summary.get("periodic") or {}).get("method") == "periodic")
 
 
 def plotted_scene(scene) -> SimpleNamespace:
@@ -197,10 +209,12 @@ def serve(kind: str) -> None:
     directory = job["directory"]
     if "picture" in job:
         picture.draw(job["picture"], directory / PICTURE)
-    plots.drive_force_history(job["whole"], job["scene"], directory / DRIVE_FORCE)
+    steady = job["steady"]
+    plots.drive_force_history(job["whole"], job["scene"], directory / DRIVE_FORCE, steady)
     plots.friction_last_cycles(job["last_cycles"], job["scene"], directory / LAST_CYCLES)
     if "normal" in job:
-        plots.normal_force_history(job["normal"], job["scene"], directory / NORMAL_FORCE)
+        plots.normal_force_history(job["normal"], job["scene"], directory / NORMAL_FORCE,
+                                   job["normal_steady"])
 
 
 if __name__ == "__main__":

@@ -34,32 +34,99 @@ def figure(figsize, dpi=None):
     return fig, fig.subplots()
 
 
-def drive_force_figure(runs: dict, scene):
-    """F_d over the whole run (Fig 7 / Fig 10 analogue); ``runs`` maps a label to
-    a TimeSeries (or anything with ``t`` and ``F_d``). Where no run reaches back to the
-    vibration's start (each answered by its steady cycle, whose series is a few cycles
-    ending at time.T), the steady cycles alone at their own scale, so titled."""
+# A stepped run's history is drawn sample by sample up to this many vibration cycles;
+# beyond, its cycles are closer than a line's width on a 7-inch plot (the Fig 7 scene
+# to 0.3 s has 640): each cycle is drawn as its mean and its range (cycle_envelope).
+DRAWN_CYCLES = 60
+
+
+def cycle_envelope(t, y, f: float, t_on: float):
+    """(t, low, mean, high) of ``y`` over each whole vibration cycle from ``t_on`` on
+    (cycle k: t_on + k / f <= t < t_on + (k + 1) / f), t each cycle's middle: what a
+    history of too many cycles to draw shows. From the rows given (a written series
+    has at least core.series.ROWS_PER_CYCLE a cycle, so the range is the sampled one,
+    within a few % of the swing)."""
+    t, y = np.asarray(t), np.asarray(y)
+    cycle = np.floor((t - t_on) * f + 1e-9).astype(np.int64)
+    on = t >= t_on
+    cycles, first = np.unique(cycle[on], return_index=True)
+    ends = np.append(first[1:], on.sum())
+    values = y[on]
+    low = np.array([values[a:b].min() for a, b in zip(first, ends)])
+    high = np.array([values[a:b].max() for a, b in zip(first, ends)])
+    mean = np.array([values[a:b].mean() for a, b in zip(first, ends)])
+    return t_on + (cycles + 0.5) / f, low, mean, high
+
+
+def _history(ax, t, y, scene, label):
+    """y against t: as it is while few enough cycles are in view (DRAWN_CYCLES), else
+    as it is before the vibration and as the mean and range of each cycle after."""
+    t, y = np.asarray(t), np.asarray(y)
+    vibration = scene.vibration
+    if not scene.vibrated or (t[-1] - max(t[0], vibration.t_on)) * vibration.f <= DRAWN_CYCLES:
+        return ax.plot(t, y, lw=0.8, label=label)[0]
+    before = t < vibration.t_on
+    middle, low, mean, high = cycle_envelope(t, y, vibration.f, vibration.t_on)
+    line, = ax.plot(np.append(t[before], middle), np.append(y[before], mean), lw=0.8,
+                    label=f"{label} (mean and range of each cycle)")
+    ax.fill_between(middle, low, high, color=line.get_color(), alpha=0.3, lw=0)
+    return line
+
+
+def steady_phase(t, f: float):
+    """(phase in degrees, which rows) of the last base cycle of a series ``t`` that ends
+    with a steady cycle: phase 0 at its start, where the base is at its centre moving
+    forward (u = u0 sin(phase), eq 23), 360 at its end (the series' last row). The
+    steady cycle starts at a zero of the base's phase (core/shooting.py), so the
+    phase is the time before the end in cycles."""
+    t = np.asarray(t)
+    rows = t >= t[-1] - (1 + 1e-9) / f
+    return 360.0 * (1.0 - (t[-1] - t[rows]) * f), rows
+
+
+PHASE_LABEL = r"phase of the base, $\varphi$ (°; base at $u_0 \sin\varphi$)"
+
+
+def _title(scene, what: str) -> str:
+    return (f"{scene.name}: $k_v$ = {scene.vibration.k_v:g}, "
+            rf"$\theta$ = {scene.vibration.theta_deg:g}°{what}")
+
+
+def drive_force_figure(runs: dict, scene, steady=()):
+    """F_d of each run (``runs`` maps a label to a TimeSeries, or anything with ``t``
+    and ``F_d``). Where every run is answered by its steady cycle (their labels in
+    ``steady``: each series is a few repeats of the cycle ending at time.T), one cycle
+    of each against the base's phase, with each F_dv (the cycle's mean, eq 41): both
+    models on the same span. Else F_d over the whole run (Fig 7 / Fig 10 analogue),
+    each run's vibrated cycles as their mean and range where too many to draw
+    (_history)."""
     fig, ax = figure((7, 4), RUN_DPI)
-    for label, series in runs.items():
-        ax.plot(series.t, series.F_d, lw=0.8, label=label)
-    stepped = not scene.vibrated or any(series.t[0] <= scene.vibration.t_on
-                                        for series in runs.values())
-    if stepped:
+    if scene.vibrated and runs and set(runs) <= set(steady):
+        for label, series in runs.items():
+            phase, rows = steady_phase(series.t, scene.vibration.f)
+            force = np.asarray(series.F_d)[rows]
+            mean = force[1:].mean()   # the cycle's steps: its first row is its last one's
+            line, = ax.plot(phase, force, lw=1.0, label=label)
+            ax.axhline(mean, color=line.get_color(), ls="--", lw=0.8,
+                       label=f"{label}: $F_{{dv}}$ = {mean:.4g} N")
+        ax.set(xlabel=PHASE_LABEL, ylabel="drive force $F_d$ (N)", xlim=(0, 360),
+               xticks=range(0, 361, 45),
+               title=_title(scene, ", the steady cycle ending at $T$"))
+    else:
+        for label, series in runs.items():
+            _history(ax, series.t, series.F_d, scene, label)
         ax.axhline(scene.F_c, color="k", ls=":", lw=0.8, label=r"$F_c = \mu F_N$")
         if scene.vibrated:
             ax.axvline(scene.vibration.t_on, color="grey", ls="--", lw=0.8, label="vibration on")
-    ax.set(xlabel="time t (s)", ylabel="drive force $F_d$ (N)",
-           title=f"{scene.name}: $k_v$ = {scene.vibration.k_v:g}, "
-                 rf"$\theta$ = {scene.vibration.theta_deg:g}°"
-                 + ("" if stepped else ", the steady cycle"))
+        ax.set(xlabel="time t (s)", ylabel="drive force $F_d$ (N)", title=_title(scene, ""))
     ax.legend(fontsize=8)
     fig.subplots_adjust(**RUN_MARGINS)
     return fig
 
 
-def drive_force_history(runs: dict, scene, path) -> None:
+def drive_force_history(runs: dict, scene, path, steady=()) -> None:
     """drive_force_figure() as PNG."""
-    drive_force_figure(runs, scene).savefig(path, **RUN_PNG)
+    drive_force_figure(runs, scene, steady).savefig(path, **RUN_PNG)
 
 
 def friction_last_cycles_figure(runs: dict, scene):
@@ -130,7 +197,9 @@ def ratio_against_angle(records: list, path, key="F_dv_over_F_d0", fe_key=None) 
     if fe_key is not None:
         ax.plot([], [], "ks", ms=7, mfc="none", label="FE model (markers)")
     ax.set(xlabel=r"vibration angle $\theta$ (°)", ylabel=r"$F_{dv} / F_{d0}$",
-           xticks=range(0, 361, 45), ylim=(0, None))
+           xticks=range(0, 361, 45), ylim=(0, None),
+           title=r"$F_{dv} / F_{d0}$ against the vibration angle $\theta$, one curve a $k_v$"
+                 + (" (lines: analytic stepper)" if fe_key is not None else ""))
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
@@ -153,13 +222,28 @@ def error_per_point(records: list, keys: list, path) -> None:
     fig.savefig(path, dpi=120)
 
 
-def normal_force_history(series, scene, path) -> None:
-    """The FE model's summed normal reaction over time: steady at F_N in a sound run."""
+def normal_force_figure(series, scene, steady: bool = False):
+    """The FE model's summed normal reaction: steady at F_N in a sound run. A run
+    answered by its steady cycle (``steady``): that cycle against the base's phase;
+    a stepped run: over time, its vibrated cycles as their mean and range where too
+    many to draw (_history)."""
     fig, ax = figure((7, 3.5), RUN_DPI)
-    ax.plot(series.t, series.extra["F_n"], lw=0.8, label=r"$\sum$ nodal normal force")
+    label = r"$\sum$ nodal normal force"
+    if steady and scene.vibrated:
+        phase, rows = steady_phase(series.t, scene.vibration.f)
+        ax.plot(phase, np.asarray(series.extra["F_n"])[rows], lw=1.0, label=label)
+        ax.set(xlabel=PHASE_LABEL, xlim=(0, 360), xticks=range(0, 361, 45),
+               title="normal force over the contact face, the steady cycle ending at $T$")
+    else:
+        _history(ax, series.t, series.extra["F_n"], scene, label)
+        ax.set(xlabel="time t (s)", title="normal force over the contact face")
     ax.axhline(scene.contact.F_N, color="k", ls=":", lw=0.8, label=r"$F_N$")
-    ax.set(xlabel="time t (s)", ylabel="normal reaction (N)",
-           title="normal force over the contact face")
-    ax.legend(fontsize=8)
+    ax.set(ylabel="normal reaction (N)")
+    ax.legend(fontsize=8, loc="best")   # the curve may fill any corner
     fig.subplots_adjust(**{**RUN_MARGINS, "bottom": 0.15, "top": 0.9})
-    fig.savefig(path, **RUN_PNG)
+    return fig
+
+
+def normal_force_history(series, scene, path, steady: bool = False) -> None:
+    """normal_force_figure() as PNG."""
+    normal_force_figure(series, scene, steady).savefig(path, **RUN_PNG)

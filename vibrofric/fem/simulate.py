@@ -146,7 +146,7 @@ def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, sta
                                    extra_columns(scene.fem.energy))
     writer = _frame_writer(scene, model, vtk_dir)
     try:
-        last = periodic.cycle_frames(phi, orbit, writer)
+        last = periodic.cycle_frames(phi, orbit, scene.time.T, writer)
     finally:
         if writer is not None:
             writer.close()

@@ -10,7 +10,9 @@ compiles it with numba, cached on disk under a name that carries
 compiled into the loop's machine code, a second run loads the compiled loop
 from the cache, and an edited law or package compiles anew: no stale
 compiled code is ever used. Of each loop the KEPT_VERSIONS most recent
-compiled versions stay on disk.
+compiled versions stay on disk: a built-in law's beside the package's sources
+(numba's __pycache__), a user's law's in the user's cache directory
+(law_cache.py).
 
 The law's functions enter the loops as functions of their own (``_called``:
 compiled once per law, linked into each loop, where LLVM inlines them or
@@ -52,6 +54,7 @@ from numba import njit
 
 from ..disk_cache import locked
 from .contract import BUILT_IN, FASTMATH, LawError
+from .law_cache import cache_in_user_directory
 
 KEPT_VERSIONS = 8  # compiled versions of a loop kept on disk (laws in use, package edits)
 
@@ -88,6 +91,8 @@ class LawKernel:
             function.__doc__ = f.__doc__
             _LAW_FINGERPRINTS.add(law.fingerprint)
             compiled = njit(**self.options)(function)
+            if self.options.get("cache") and law.name not in BUILT_IN:
+                cache_in_user_directory(compiled)   # not the package's __pycache__
             self._compiled[law.fingerprint] = compiled
             if self.options.get("cache"):
                 _prune(compiled, f"{Path(f.__code__.co_filename).stem}.{f.__qualname__}__")

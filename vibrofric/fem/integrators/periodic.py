@@ -211,10 +211,16 @@ def steady_table(orbit: Orbit, scene, cycles: int) -> np.ndarray:
     return table
 
 
-def cycle_frames(phi: FECycleMap, orbit: Orbit, frame=None) -> State:
+def cycle_frames(phi: FECycleMap, orbit: Orbit, end_time: float, frame=None) -> State:
     """frame(State), if given, at FRAMES_PER_CYCLE + 1 evenly spaced steps of one steady
-    cycle (its start and end included), at the times the cycle map integrates it;
-    returns the state at its end (FEResult.fields)."""
+    cycle (its start and end included); returns the state at its end (FEResult.fields).
+
+    The cycle map integrates the cycle one cycle after the vibration starts (steps
+    i0 .. i0 + n); the states are shown as the cycle that ends at ``end_time``
+    (time.T), as steady_table's rows: their times moved by shift = end_time - (i0 + n)
+    dt, and the block translated by the drive's v_d shift in X (the orbit is periodic
+    in the frame that moves with the drive); the base, periodic, is where it is at
+    the same phase. So the last frame is at time.T exactly, where the series ends."""
     law = phi.scene.friction.law
     v_d = phi.scene.drive.v_d
     dt = phi.dt
@@ -224,7 +230,9 @@ def cycle_frames(phi: FECycleMap, orbit: Orbit, frame=None) -> State:
 
     def state(step):
         u, v = phi.started.fields()
-        return State(step, step * dt, u.copy(), v.copy(), c.state.copy(),
+        u = u.copy()
+        u[0::3] += v_d * (end_time - (i0 + n) * dt)   # the drive's translation, X
+        return State(step, end_time - (i0 + n - step) * dt, u, v.copy(), c.state.copy(),
                      law.deformation(c.state), c.normal.copy(), c.friction.copy(),
                      scalars[XB], scalars[YB])
 

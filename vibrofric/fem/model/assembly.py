@@ -1,4 +1,4 @@
-"""The elastic block as plain arrays: stiffness, lumped mass, face areas.
+"""The elastic block as plain arrays: stiffness, lumped mass, face areas, cell stresses.
 
 DOLFINx computes them (``dolfinx_adapter``: vector Q1 on the hexahedral mesh of
 ``vibrofric.meshes``, the forms written out there); this module gathers them
@@ -29,6 +29,9 @@ class Discretization:
     volume       m^3
     cells        (elements, 8) each hexahedron's nodes in VTK's corner order (the
                  ParaView frames: outputs/paraview.py)
+    cell_stress  scipy CSR (6 elements, 3 nodes): each cell's mean stress (Voigt: xx,
+                 yy, zz, yz, xz, xy; Pa) in a displacement, the cells as in ``cells``
+                 (dolfinx_adapter.cell_stress; the frames' stress fields)
     """
 
     level: str
@@ -38,6 +41,7 @@ class Discretization:
     face_area: dict
     volume: float
     cells: np.ndarray = field(repr=False)
+    cell_stress: sp.csr_matrix = field(repr=False)
 
     @property
     def nodes(self) -> int:
@@ -65,4 +69,5 @@ def assemble_block(comm, size, level, E, nu, density, faces) -> Discretization:
     assert K.shape == (3 * coordinates.shape[0],) * 2
     return Discretization(level=level, coordinates=coordinates, stiffness=K, mass=mass,
                           face_area=face_area, volume=dolfinx_adapter.volume(mesh),
-                          cells=dolfinx_adapter.hexahedra(V))
+                          cells=dolfinx_adapter.hexahedra(V),
+                          cell_stress=dolfinx_adapter.cell_stress(V, E, nu))

@@ -1,4 +1,5 @@
-"""DOLFINx behind one door: mesh from gmsh, vector Q1 space, K, lumped M, face areas, cells.
+"""DOLFINx behind one door: mesh from gmsh, vector Q1 space, K, lumped M, face areas, cells,
+the cell-wise stress operator.
 
 The only module that imports DOLFINx, UFL, petsc4py and DOLFINx's gmsh bridge.
 Everything it returns is plain numpy / scipy, except the mesh and space handles
@@ -9,6 +10,8 @@ offers, never by reading its version string:
 
     vector P1 space   fem.functionspace(mesh, ("Lagrange", 1, (3,)))  (0.8+)
                       else fem.VectorFunctionSpace(mesh, ("Lagrange", 1))
+    DG0 6-vectors     fem.functionspace(mesh, ("DG", 0, (6,)))  (0.8+)
+                      else fem.VectorFunctionSpace(mesh, ("DG", 0), dim=6)
     gmsh bridge       dolfinx.io.gmsh (0.10+) else dolfinx.io.gmshio; its
                       model_to_mesh returns a MeshData object (0.10+) or a
                       (mesh, cell_tags, facet_tags) tuple
@@ -27,6 +30,10 @@ hexahedra:
     lumped mass m_i = sum_j int_V rho phi_i . phi_j dV = int_V rho phi_i dV
                 (row sums; on Q1 hexahedra all positive and summing to rho V)
     face areas  a_i = int_face phi_i dA  (each node's tributary area on a face)
+    cell stress S = diag(1 / |cell|) A,  A_(c k),j = int_cell sigma(phi_j)_k dV
+                (the L2 projection of sigma(u) onto cell-wise constants, DG0: each
+                cell's mean stress, Voigt order xx, yy, zz, yz, xz, xy; S u gives
+                the stresses of a displacement u)
 
 Arrays are indexed like DOLFINx's blocked vector space: node d carries the
 degrees of freedom 3 d + c, c = 0, 1, 2 for X, Y, Z.
@@ -127,29 +134,70 @@ def _to_csr(matrix) -> sp.csr_matrix:
     return csr
 
 
-def stiffness(V, E: float, nu: float) -> sp.csr_matrix:
-    """K of the linear elastic block (Young's modulus E, Poisson's ratio nu), scipy CSR."""
+def _strain(w):
+    _, ufl, _ = _dolfinx()
+    return ufl.sym(ufl.grad(w))
+
+
+def _hooke(mesh, E: float, nu: float):
+    """sigma(w) = 2 G eps(w) + lambda tr(eps(w)) I, as a function of a UFL argument.
+
+    Material values enter as Constants, so that the compiled form (cached by
+    FFCx on its symbolic content) is reused for every E and nu."""
     dolfinx, ufl, PETSc = _dolfinx()
-    fem, mesh = dolfinx.fem, V.mesh
-    # Material values enter as Constants, so that the compiled form (cached by
-    # FFCx on its symbolic content) is reused for every E and nu.
-    E_ = fem.Constant(mesh, PETSc.ScalarType(E))
-    nu_ = fem.Constant(mesh, PETSc.ScalarType(nu))
+    E_ = dolfinx.fem.Constant(mesh, PETSc.ScalarType(E))
+    nu_ = dolfinx.fem.Constant(mesh, PETSc.ScalarType(nu))
     shear = E_ / (2.0 * (1.0 + nu_))                       # G (Lame mu)
     lame = E_ * nu_ / ((1.0 + nu_) * (1.0 - 2.0 * nu_))   # Lame lambda
 
-    def strain(w):
-        return ufl.sym(ufl.grad(w))
-
     def stress(w):
-        return 2.0 * shear * strain(w) + lame * ufl.tr(strain(w)) * ufl.Identity(3)
+        return 2.0 * shear * _strain(w) + lame * ufl.tr(_strain(w)) * ufl.Identity(3)
 
+    return stress
+
+
+def stiffness(V, E: float, nu: float) -> sp.csr_matrix:
+    """K of the linear elastic block (Young's modulus E, Poisson's ratio nu), scipy CSR."""
+    dolfinx, ufl, PETSc = _dolfinx()
+    fem, strain, stress = dolfinx.fem, _strain, _hooke(V.mesh, E, nu)
     u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
     matrix = fem.petsc.assemble_matrix(fem.form(ufl.inner(stress(u), strain(v)) * ufl.dx))
     matrix.assemble()
     K = _to_csr(matrix)
     matrix.destroy()
     return K
+
+
+# The Voigt order of the stress operator's rows (tensor indices of each component)
+VOIGT = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
+
+
+def cell_stress(V, E: float, nu: float) -> sp.csr_matrix:
+    """S (6 cells, 3 nodes), scipy CSR: row 6 c + k of cell c's mean stress component k
+    (VOIGT) in a displacement u on V: sigma_c = S u, Pa for u in m (the DG0 projection:
+    see the module's docstring). Its cells are in the order of the mesh's local cells,
+    that of ``hexahedra``."""
+    dolfinx, ufl, PETSc = _dolfinx()
+    fem, mesh = dolfinx.fem, V.mesh
+    if hasattr(fem, "functionspace"):  # 0.8+
+        W = fem.functionspace(mesh, ("DG", 0, (6,)))
+    else:
+        W = fem.VectorFunctionSpace(mesh, ("DG", 0), dim=6)
+    stress = _hooke(mesh, E, nu)(ufl.TrialFunction(V))
+    voigt = ufl.as_vector([stress[i, j] for i, j in VOIGT])
+    tau = ufl.TestFunction(W)
+    matrix = fem.petsc.assemble_matrix(fem.form(ufl.inner(voigt, tau) * ufl.dx))
+    matrix.assemble()
+    A = _to_csr(matrix)
+    matrix.destroy()
+    ones = ufl.as_vector([1.0] * 6)
+    cell_volume = fem.petsc.assemble_vector(fem.form(ufl.inner(ones, tau) * ufl.dx))
+    S = sp.diags(1.0 / cell_volume.array) @ A      # W's blocks of 6 rows, in its dof order
+    cells = mesh.topology.index_map(mesh.topology.dim).size_local
+    block = np.array([W.dofmap.cell_dofs(c)[0] for c in range(cells)])  # cell c's DG0 block
+    assert W.dofmap.index_map_bs == 6 and np.unique(block).size == cells
+    rows = (6 * block[:, None] + np.arange(6)).ravel()
+    return sp.csr_matrix(S[rows])
 
 
 def lumped_mass(V, density: float) -> np.ndarray:

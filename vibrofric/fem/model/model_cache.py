@@ -6,7 +6,8 @@ basis (integrators/reduction.py). A repeat run, or every point of a sweep on one
 would build the same again. This module keeps them in
 ``disk_cache.cache_root()/models``:
 
-    block-<key>.npz       coordinates, K (CSR arrays), M, face areas, volume: keyed by
+    block-<key>.npz       coordinates, K and the cell stress operator (CSR arrays), M,
+                          face areas, volume, cells: keyed by
                           the block's size, mesh level, E, nu, density, the faces
                           asked for, the DOLFINx version and the package's
     reduction-<key>.npz   reduction.Reduction's arrays: keyed by the model's content
@@ -46,7 +47,7 @@ from ...friction_law.contract import package_hash
 from . import dolfinx_adapter
 from .assembly import Discretization, assemble_block
 
-FORMAT = 2   # the entries' layout: a change here makes every entry anew
+FORMAT = 3   # the entries' layout: a change here makes every entry anew
 # Entries of each kind kept: the most recently used (a reduction of the "fine" mesh
 # holds its dense basis, ~270 MB; the "coarse" one's ~0.6 MB).
 KEPT_ENTRIES = 12
@@ -104,10 +105,20 @@ def _touch(path) -> None:
         pass
 
 
+def _packed_csr(name: str, matrix: sp.csr_matrix) -> dict:
+    return {f"{name}_data": matrix.data, f"{name}_indices": matrix.indices,
+            f"{name}_indptr": matrix.indptr, f"{name}_shape": np.array(matrix.shape)}
+
+
+def _unpacked_csr(name: str, arrays: dict) -> sp.csr_matrix:
+    return sp.csr_matrix((arrays[f"{name}_data"], arrays[f"{name}_indices"],
+                          arrays[f"{name}_indptr"]),
+                         shape=tuple(int(n) for n in arrays[f"{name}_shape"]))
+
+
 def _packed(disc: Discretization, faces) -> dict:
-    K = disc.stiffness
-    arrays = {"coordinates": disc.coordinates, "K_data": K.data, "K_indices": K.indices,
-              "K_indptr": K.indptr, "K_shape": np.array(K.shape), "mass": disc.mass,
+    arrays = {"coordinates": disc.coordinates, **_packed_csr("K", disc.stiffness),
+              **_packed_csr("S", disc.cell_stress), "mass": disc.mass,
               "volume": disc.volume, "cells": disc.cells}
     for tag in faces:
         arrays[f"face_{tag}"] = disc.face_area[tag]
@@ -115,13 +126,13 @@ def _packed(disc: Discretization, faces) -> dict:
 
 
 def _unpacked(arrays: dict, level: str, faces) -> Discretization:
-    K = sp.csr_matrix((arrays["K_data"], arrays["K_indices"], arrays["K_indptr"]),
-                      shape=tuple(int(n) for n in arrays["K_shape"]))
+    K = _unpacked_csr("K", arrays)
     K.has_sorted_indices = True   # as dolfinx_adapter made it (sorted before it was stored)
     return Discretization(level=level, coordinates=arrays["coordinates"], stiffness=K,
                           mass=arrays["mass"],
                           face_area={tag: arrays[f"face_{tag}"] for tag in faces},
-                          volume=float(arrays["volume"]), cells=arrays["cells"])
+                          volume=float(arrays["volume"]), cells=arrays["cells"],
+                          cell_stress=_unpacked_csr("S", arrays))
 
 
 def block(comm, size, level, E, nu, density, faces) -> Discretization:

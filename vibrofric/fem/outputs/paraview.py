@@ -1,6 +1,6 @@
-"""ParaView output: a .pvd time series of the block's node fields.
+"""ParaView output: a .pvd time series of the block's node and cell fields.
 
-Every frame holds, on the mesh's Q1 nodes:
+Every frame holds, on the mesh's Q1 nodes (point data):
 
     displacement       u (vector, m), including the static preload
     velocity           v (vector, m/s)
@@ -13,7 +13,18 @@ Every frame holds, on the mesh's Q1 nodes:
                        displacement relative to the base since the preload
 
 (the contact fields are in the XY plane, their Z components 0; paper sign:
-F_i acts on the body as -F_i). The frame time is the simulated time.
+F_i acts on the body as -F_i), and on its hexahedra (cell data: each cell's mean,
+the DG0 projection of sigma(u) of model/dolfinx_adapter.cell_stress):
+
+    stress             the Cauchy stress tensor sigma (9 components, Pa; tension positive),
+                       including the preload's
+    von_mises          sqrt(3/2 s:s), s the deviator of sigma (Pa): von_mises()
+    normal_stress      sigma_zz (Pa; compression negative): on the bottom layer of cells,
+                       the normal stress on the contact, against contact_pressure
+
+docs/fe-model.md ("The ParaView series") describes each for the user; a test holds
+its table to FIELDS and CELL_FIELDS. The frame time is the simulated time (a run
+answered by its steady cycle: the cycle ending at time.T, integrators/periodic.py).
 
 The files: ``block.pvd`` lists the frames with their times, each frame one
 ``blockNNNNNN.vtu`` (VTK's XML unstructured grid, binary): the block's nodes
@@ -38,6 +49,7 @@ import numpy as np
 
 FIELDS = ("displacement", "velocity", "contact_pressure", "friction_traction",
           "friction_force", "asperity_deformation", "slip")
+CELL_FIELDS = ("stress", "von_mises", "normal_stress")
 
 
 def node_fields(model, state) -> dict:
@@ -61,6 +73,31 @@ def node_fields(model, state) -> dict:
     return out
 
 
+def von_mises(voigt: np.ndarray) -> np.ndarray:
+    """The von Mises equivalent stress sqrt(3 J2) of stresses in Voigt order (..., 6:
+    xx, yy, zz, yz, xz, xy):
+
+        sqrt(((s_xx - s_yy)^2 + (s_yy - s_zz)^2 + (s_zz - s_xx)^2) / 2
+             + 3 (s_yz^2 + s_xz^2 + s_xy^2))
+
+    (uniaxial stress s: |s|; pure shear t: sqrt(3) |t|)."""
+    xx, yy, zz, yz, xz, xy = np.moveaxis(np.asarray(voigt), -1, 0)
+    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2)
+                   + 3.0 * (yz ** 2 + xz ** 2 + xy ** 2))
+
+
+# A Voigt component's places in the row-major 3 x 3 tensor
+TENSOR_OF_VOIGT = np.array([[0, 5, 4], [5, 1, 3], [4, 3, 2]]).ravel()
+
+
+def cell_fields(model, state) -> dict:
+    """The frame's cell fields (CELL_FIELDS): stress (cells, 9), von_mises and
+    normal_stress (cells,), from the displacement by the cell stress operator."""
+    voigt = (model.disc.cell_stress @ state.u).reshape(-1, 6)
+    return {"stress": voigt[:, TENSOR_OF_VOIGT], "von_mises": von_mises(voigt),
+            "normal_stress": voigt[:, 2].copy()}
+
+
 class FrameWriter:
     """Writes ``vtk_dir/block.pvd`` (+ a .vtu per frame); call with a recording.State."""
 
@@ -75,7 +112,8 @@ class FrameWriter:
         disc = self.model.disc
         name = f"{self.path.stem}{self.frames:06d}.vtu"
         (self.path.parent / name).write_text(vtu_text(disc.coordinates, disc.cells,
-                                                      node_fields(self.model, state)))
+                                                      node_fields(self.model, state),
+                                                      cell_fields(self.model, state)))
         self.times.append((state.t, name))
         self.frames += 1
 
@@ -107,14 +145,22 @@ def _data_array(values: np.ndarray, vtk_type: str, name: str, components: int = 
             f"{encoded}</DataArray>\n")
 
 
-def vtu_text(points: np.ndarray, cells: np.ndarray, point_data: dict) -> str:
+def _data_arrays(data: dict) -> str:
+    """Float64 DataArrays of ``data`` (name: (n,) or (n, components))."""
+    return "".join(_data_array(np.asarray(v, dtype="<f8"), "Float64", name,
+                               1 if np.ndim(v) == 1 else np.shape(v)[1])
+                   for name, v in data.items())
+
+
+def vtu_text(points: np.ndarray, cells: np.ndarray, point_data: dict,
+             cell_data: dict | None = None) -> str:
     """A .vtu (VTK XML unstructured grid) of hexahedra ``cells`` (cells, 8) over
     ``points`` (nodes, 3), with the node arrays ``point_data`` (name: (nodes,) or
-    (nodes, 3))."""
+    (nodes, components)) and the cell arrays ``cell_data`` (name: (cells,) or
+    (cells, components))."""
     cells = np.asarray(cells, dtype="<i8")
-    fields = "".join(_data_array(np.asarray(v, dtype="<f8"), "Float64", name,
-                                 1 if np.ndim(v) == 1 else np.shape(v)[1])
-                     for name, v in point_data.items())
+    fields = _data_arrays(point_data)
+    cell_part = (f"<CellData>\n{_data_arrays(cell_data)}</CellData>\n" if cell_data else "")
     offsets = np.arange(1, cells.shape[0] + 1, dtype="<i8") * cells.shape[1]
     types = np.full(cells.shape[0], VTK_HEXAHEDRON, dtype=np.uint8)
     return ('<?xml version="1.0"?>\n'
@@ -126,13 +172,15 @@ def vtu_text(points: np.ndarray, cells: np.ndarray, point_data: dict) -> str:
             + _data_array(cells.ravel(), "Int64", "connectivity")
             + _data_array(offsets, "Int64", "offsets")
             + _data_array(types, "UInt8", "types")
-            + "</Cells>\n<PointData>\n" + fields + "</PointData>\n"
-            "</Piece>\n</UnstructuredGrid>\n</VTKFile>\n")
+            + "</Cells>\n<PointData>\n" + fields + "</PointData>\n" + cell_part
+            + "</Piece>\n</UnstructuredGrid>\n</VTKFile>\n")
 
 
 def collection(times) -> str:
-    """A .pvd (ParaView's collection file) of ``times``: [(t, file name)]."""
-    entries = "".join(f'    <DataSet timestep="{float(t)!r}" group="" part="0" file={quoteattr(name)}/>\n'
-                      for t, name in times)
+    """A .pvd (ParaView's collection file) of ``times``: [(t, file name)], each time to
+    12 significant digits (a steady cycle's times T - k dt read 0.299781, not
+    0.29978099999999996; frames are at least a step apart)."""
+    entries = "".join(f'    <DataSet timestep="{float(t):.12g}" group="" part="0" '
+                      f'file={quoteattr(name)}/>\n' for t, name in times)
     return ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n  <Collection>\n'
             + entries + "  </Collection>\n</VTKFile>\n")
