@@ -117,6 +117,30 @@ def test_sweep_table_equals_single_runs():
     assert table["F_dv_over_F_d0"].iloc[3] == one.F_dv_over_F_d0
 
 
+def _as_value(scene) -> tuple:
+    """What makes a scene a value: its pickle, its hash, and an unpickled copy equal to it."""
+    import pickle
+
+    data = pickle.dumps(scene)
+    assert pickle.loads(data) == scene
+    return data, hash(scene)
+
+
+def test_a_scene_is_the_same_value_after_a_run():
+    """A run keeps nothing in its scene (the README's example: a scene run, then swept over
+    both cores, which pickles it into the workers)."""
+    scene = vf.load_scene("longitudinal", **SHORT)
+    before = _as_value(scene)
+    vf.run_analytic(scene)
+    assert _as_value(scene) == before
+    assert vf.load_scene(scene) == scene and hash(vf.load_scene(scene)) == before[1]
+    table = vf.sweep(scene, {"vibration.k_v": [2, 6]}, workers=2)
+    assert len(table) == 2 and table["F_dv_over_F_d0"].notna().all()
+    assert _as_value(scene) == before
+    other = scene.with_values({"contact.mu": 0.2})
+    assert other != scene and hash(other) != hash(scene)   # a law parameter is part of the value
+
+
 def test_sweep_to_disk_resumes(tmp_path):
     scene = vf.load_scene("longitudinal", **SHORT)
     first = vf.sweep(scene, {"vibration.k_v": [2, 6]}, out=tmp_path / "s", workers=1)
@@ -148,7 +172,11 @@ def test_only_the_command_imports_the_api():
 @pytest.mark.slow
 def test_fe_result_beside_the_analytic_one(tmp_path):
     scene = vf.load_scene("longitudinal", **{"time.T": 0.16, "fem.mesh": "tiny"})
+    before = _as_value(scene)
     quiet = vf.run_fe(scene)
+    assert _as_value(scene) == before   # the FE run kept nothing in its scene either
+    # one scene, one analytic answer: the stepper beside the FE model runs at the scene's dt
+    assert quiet.analytic.F_dv_over_F_d0 == vf.run_analytic(scene).F_dv_over_F_d0
     assert quiet.out is None and quiet.info["vtk"] is None
     assert quiet.analytic is not None and 0 < quiet.F_dv_over_F_d0 < 1
     assert quiet.rel_error == abs(quiet.F_dv_over_F_d0 - quiet.analytic.F_dv_over_F_d0) / \

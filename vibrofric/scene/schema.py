@@ -52,6 +52,14 @@ class Contact:
     parameters: dict = field(default_factory=dict)  # [contact]'s law parameters
     tables: dict = field(default_factory=dict)      # {law_key: {parameter: value}}
 
+    def __hash__(self):
+        """A contact is a value: hashed by its keys, its law's parameters and tables (dicts,
+        which the generated hash of a frozen dataclass cannot take), as == compares them."""
+        tables = tuple(sorted((name, tuple(sorted(table.items())))
+                              for name, table in self.tables.items()))
+        return hash((self.law, self.F_N, self.eta_y, tuple(sorted(self.parameters.items())),
+                     tables))
+
     @property
     def given(self) -> dict:
         """The parameters the scene sets for its chosen law: [contact]'s and its own table's."""
@@ -164,12 +172,14 @@ class Scene:
     fem: Fem = field(default_factory=Fem)
 
     # Derived quantities (docs/model.md section 1).
-    @functools.cached_property
+    @property
     def friction(self) -> ContactLaw:
-        """The contact's friction law with its parameter values (friction_law.ContactLaw)."""
-        c = self.contact
-        law = load_law(c.law)
-        return ContactLaw(law, law.values(c.given), c.F_N)
+        """The contact's friction law with its parameter values (friction_law.ContactLaw).
+
+        Made on each call (contact_law), never kept in the scene: a Scene is a value, which
+        pickles, compares and hashes the same before and after any run, and the loaded
+        law holds its module, which does not pickle."""
+        return contact_law(self.contact)
 
     @property
     def law_bounds(self):
@@ -254,6 +264,13 @@ class Scene:
         if parameters:
             raw["contact"][law_key(law)] = {**raw["contact"].get(law_key(law), {}), **parameters}
         return from_dict(raw, self.name)
+
+
+def contact_law(contact: Contact) -> ContactLaw:
+    """The contact's law, loaded (friction_law.load_law keeps each law loaded once: a law
+    file by its content, so an edited file is loaded anew), with its parameter values."""
+    law = load_law(contact.law)
+    return ContactLaw(law, law.values(contact.given), contact.F_N)
 
 
 def split_key(key: str):

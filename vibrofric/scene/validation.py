@@ -1,7 +1,7 @@
 """Every value of a built scene checked before any work (docs/scenes.md): a physically
 invalid or unrunnable one raises SceneError naming its key."""
 
-from ..friction_law import ContactLaw, LawError, load_law
+from ..friction_law import LawError
 from ..meshes import level_counts
 from ..sense import nonsense
 from .errors import SceneError, law_refused
@@ -63,9 +63,8 @@ def validate(scene: Scene) -> None:
     if (refusal := nonsense(flat)) is not None:
         raise SceneError(*refusal)
     try:  # a law file's first steps at the scene's values, bounds-checked (friction_law.law_check)
-        law = load_law(scene.contact.law)   # (not scene.friction: a Scene stays picklable)
-        law.probe(ContactLaw(law, law.values(scene.contact.given), scene.contact.F_N),
-                  scene.time.dt)
+        contact_law = scene.friction
+        contact_law.law.probe(contact_law, scene.time.dt)
     except LawError as err:
         raise law_refused(err) from None
     if scene.vibrated:
