@@ -340,6 +340,10 @@ def test_the_example_law_runs_through_the_command(tmp_path, capsys):
     pytest.param("raise RuntimeError('broken')\n", [], "could not be loaded: RuntimeError: broken",
                  id="raises-at-import"),
     pytest.param(None, [], "contact.law: no friction law file", id="no-such-file"),
+    pytest.param((ROOT / "examples" / "laws" / "jenkins.py").read_text()
+                 .replace('"mu": Parameter', '"mu_c": Parameter').replace("p.mu", "p.mu_c"), [],
+                 "PARAMETERS lacks mu: every friction law declares the parameters mu, its "
+                 "friction coefficient (F_d0 = mu F_N", id="lacks-mu"),
     pytest.param((ROOT / "examples" / "laws" / "maxwell_slip.py").read_text(),
                  ["contact.stiffness=1e6"], "contact.stiffness: not a parameter of the friction law",
                  id="unknown-parameter"),
@@ -454,6 +458,59 @@ def test_a_broken_law_is_refused_in_one_line(tmp_path, capsys, case):
               f"contact.law={law}", "--out", str(out), "--verbose"])
         verbose = capsys.readouterr().err
         assert "Failed in nopython mode" in verbose and "\x1b[" not in verbose
+
+
+def test_a_law_reads_its_parameters_by_name_either_way(tmp_path):
+    """``p`` is the parameter values by name: ``p.mu`` and ``p["mu"]`` are one value
+    (a newcomer's law read ``p["mu_s"]``, the guide's "by name")."""
+    import vibrofric as vf
+
+    by_item = (JENKINS.replace("stiffness=p.k_t, max_stiffness=p.k_t",
+                               'stiffness=p["k_t"], max_stiffness=p["k_t"]')
+               .replace("    return p.mu * normal_force", '    return p["mu"] * normal_force'))
+    law = tmp_path / "by_item.py"
+    law.write_text(by_item)
+    scene = vf.load_scene("longitudinal", **{"time.T": 0.2})
+    mine = vf.run_analytic(scene.with_values({"contact.law": str(law)}))
+    jenkins = vf.run_analytic(scene.with_values({"contact.law": LAWS["jenkins"][0]}))
+    assert mine.F_dv_over_F_d0 == jenkins.F_dv_over_F_d0
+    assert mine.summary["F_d0"] == jenkins.summary["F_d0"] == 0.1 * F_N
+
+
+# An exception raised inside a user's law's Python functions: (law file, the line it
+# names, the function and exception the message names)
+FAULTY_LAWS = {
+    "unknown-name-in-steady-sliding": (
+        JENKINS.replace("    return p.mu * normal_force", '    return p["mu_s"] * normal_force'),
+        'return p["mu_s"] * normal_force', "the law's steady_sliding_force() raised KeyError: "
+                                             "'mu_s'"),
+    "zero-division-in-bounds": (
+        JENKINS.replace("departure=1.0)", "departure=1.0 / (p.mu - p.mu))"),
+        "departure=1.0 / (p.mu - p.mu))", "the law's bounds() raised ZeroDivisionError"),
+}
+
+
+@pytest.mark.parametrize("command", ["analytic", pytest.param("run", marks=pytest.mark.slow)])
+@pytest.mark.parametrize("case", FAULTY_LAWS)
+def test_an_error_inside_a_law_is_the_laws_in_one_line(tmp_path, capsys, case, command):
+    """An exception out of a user's bounds() or steady_sliding_force() is refused when the
+    scene is read, in one line naming the law file and its line, exit 2, nothing written;
+    before, "failed unexpectedly ... please report it", exit 1, as for a bug of vibrofric."""
+    from vibrofric.cli import main
+
+    source, line, said = FAULTY_LAWS[case]
+    law = tmp_path / f"{case.replace('-', '_')}.py"
+    source += f"# {command}\n"   # a law file is loaded once per content (load_law): its own
+    law.write_text(source)
+    number = next(n for n, text in enumerate(source.splitlines(), 1) if line in text)
+    out = tmp_path / "out"
+    code = main([command, "longitudinal", "--set", f"contact.law={law}", "--out", str(out)])
+    error = capsys.readouterr().err
+    assert code == 2 and error.count("\n") == 1, error
+    assert error.startswith(f"vibrofric: invalid scene: contact.law: {law}, line {number} (")
+    assert line in error   # the line's text, as a traceback shows it
+    assert said in error and "not in vibrofric" in error and "please report" not in error
+    assert not out.exists()
 
 
 # Laws that pass their first steps, checked when loaded, and fail later: after many

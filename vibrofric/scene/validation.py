@@ -65,6 +65,7 @@ def validate(scene: Scene) -> None:
     try:  # a law file's first steps at the scene's values, bounds-checked (friction_law.law_check)
         contact_law = scene.friction
         contact_law.law.probe(contact_law, scene.time.dt)
+        contact_law.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)   # F_d0
     except LawError as err:
         raise law_refused(err) from None
     if scene.vibrated:
