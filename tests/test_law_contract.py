@@ -407,6 +407,8 @@ def test_a_failing_property_is_said_in_one_sentence(tmp_path):
                      r"a force \S+ N from it, the limit is 0 \(bit for bit\); usual fix: set "
                      r"the state to INITIAL_STATE when normal_force <= 0", said[0]), said[0]
     assert "Traceback" not in done.stdout and "array(" not in done.stdout
+    # the line docs/friction-laws.md shows, as said
+    assert f"    {said[0].strip()}\n" in (ROOT / "docs" / "friction-laws.md").read_text()
 
 
 def test_the_example_law_runs_through_the_command(tmp_path, capsys):
