@@ -186,3 +186,51 @@ def test_fe_result_beside_the_analytic_one(tmp_path):
     assert written.F_dv_over_F_d0 == quiet.F_dv_over_F_d0  # ParaView frames change no number
     assert (tmp_path / "fe" / "paraview" / "block.pvd").exists()
     assert json.loads((tmp_path / "fe" / "summary.json").read_text())["out"] == str(tmp_path / "fe")
+
+
+def test_scene_keys_lists_every_key_with_its_value_default_and_unit():
+    """Every key of a scene, each settable by its name to the value listed (setting every
+    one gives the scene back); defaults those of a scene of defaults; a unit for each
+    number of the sections (scene.reference.UNITS) and the law's own."""
+    from vibrofric import scene as scene_module
+    from vibrofric.scene.reference import UNITS
+
+    scene = vf.load_scene("transverse", **{"vibration.k_v": 2, "contact.lugre.F_s": 7.0})
+    table = vf.scene_keys(scene)
+    assert list(table.columns) == ["key", "value", "default", "unit", "meaning"]
+    keys = table.set_index("key")
+    defaults = scene_module.from_dict({})
+    for section, cls in scene_module.SECTIONS.items():
+        for name in cls.__dataclass_fields__:
+            if name not in ("parameters", "tables"):
+                key = f"{section}.{name}"
+                assert keys.loc[key, "value"] == scene.get(key)
+                assert keys.loc[key, "default"] == defaults.get(key)
+    assert set(UNITS) <= set(keys.index)
+    assert keys.loc["vibration.k_v", ["value", "default"]].tolist() == [2.0, 6.0]
+    assert keys.loc["contact.k_t", "value"] == scene.contact.k_t and \
+        keys.loc["contact.k_t", "unit"] == "N/m"
+    assert keys.loc["contact.lugre.F_s", "value"] == 7.0          # another law's table
+    settable = {key: value for key, value in zip(table["key"], table["value"]) if value is not None}
+    again = scene.with_values(settable)   # (the law's defaults now set outright: same values)
+    assert again.contact.law_values == scene.contact.law_values
+    assert scene_module.to_dict(again) | {"contact": {}} == scene_module.to_dict(scene) | {
+        "contact": {}} and again.contact.tables == scene.contact.tables
+    assert keys.loc["body.mass", "meaning"] == "the block's mass"   # the comment, less its unit
+
+
+def test_keys_command_is_the_api_in_a_table(capsys):
+    from vibrofric.cli import main
+
+    assert main(["keys", "transverse", "--set", "vibration.k_v=2"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].split() == ["key", "value", "default", "unit", "meaning"]
+    rows = {line.split()[0]: line.split() for line in lines[1:]}
+    assert len(rows) == len(vf.scene_keys("transverse"))
+    assert rows["vibration.k_v"][1:4] == ["2", "6", "-"]
+    assert rows["body.mass"][1:4] == ["2", "0.5", "kg"]
+    assert main(["keys", "--json"]) == 0
+    listed = json.loads(capsys.readouterr().out)
+    assert {row["key"]: row["value"] for row in listed}["body.mass"] == 0.5   # the defaults
+    assert main(["keys", "--set", "vibration.kv=2"]) == 2
+    assert "vibration.kv: unknown key" in capsys.readouterr().err

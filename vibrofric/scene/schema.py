@@ -20,10 +20,10 @@ from .errors import SceneError
 
 @dataclass(frozen=True)
 class Body:
-    mass: float = 0.5                      # kg
+    mass: float = 0.5                      # kg, the block's mass
     size: tuple = (0.03, 0.04, 0.053)      # m: X (sliding), Y, Z (height)
-    E: float = 209e9                       # Pa
-    nu: float = 0.3
+    E: float = 209e9                       # Pa, the block's Young's modulus
+    nu: float = 0.3                        # the block's Poisson's ratio
     density: typing.Optional[float] = None  # kg/m^3; default mass / volume
     gravity: float = 9.81                  # m/s^2, acting in -Z
 
@@ -92,8 +92,8 @@ CONTACT_KEYS = ("law", "F_N", "eta_y")     # the model's keys in [contact]; the 
 
 @dataclass(frozen=True)
 class Drive:
-    k_d: float = 96068.0                   # N/m
-    v_d: float = 5e-4                      # m/s
+    k_d: float = 96068.0                   # N/m, the drive spring's stiffness
+    v_d: float = 5e-4                      # m/s, the drive's speed
     attach: str = "contact-plane"          # "contact-plane" | "front-face" (FE only)
     mode: str = "spring"                   # "spring" | "velocity"
 
@@ -105,16 +105,16 @@ class Drive:
 
 @dataclass(frozen=True)
 class Vibration:
-    f: float = 4000.0                      # Hz
+    f: float = 4000.0                      # Hz, the base's vibration frequency
     k_v: float = 6.0                       # v_a / v_d; 0 means no vibration
     theta_deg: float = 0.0                 # angle of the vibration axis to X
-    t_on: float = 0.14                     # s
+    t_on: float = 0.14                     # s, when the vibration starts
 
 
 @dataclass(frozen=True)
 class Time:
     T: float = 1.0                         # s, simulated time
-    dt: float = 1e-6                       # s
+    dt: float = 1e-6                       # s, the time step
     average_cycles: int = 0                # vibration cycles at the end averaged into F_dv;
                                            # 0: those nearest one drive-system period
     series_dt: float = 1e-5                # s, sampling of the written time series
