@@ -3,7 +3,8 @@ paper's longitudinal case, docs/model.md section 4), the quantities derived from
 them (docs/model.md section 1), and the ``section.key`` names that address them.
 
 docs/scenes.md's reference tables are generated from these dataclasses (each
-key's type, default and the comment beside it: docs/hooks/scene_reference.py).
+key's type, default and the comment beside it: scene/reference.py,
+docs/tools/scene_reference.py).
 """
 
 import dataclasses
