@@ -426,8 +426,8 @@ def test_the_example_law_runs_through_the_command(tmp_path, capsys):
 @pytest.mark.parametrize("source, extra, message", [
     pytest.param("PARAMETERS = {}\n", [], "is not a friction law: it lacks STATE_SIZE",
                  id="lacks-state-size"),
-    pytest.param("raise RuntimeError('broken')\n", [], "could not be loaded: RuntimeError: broken",
-                 id="raises-at-import"),
+    pytest.param("raise RuntimeError('broken')\n", [], "bad_law.py, line 1 (raise RuntimeError("
+                 "'broken')): could not be loaded: RuntimeError: broken", id="raises-at-import"),
     pytest.param(None, [], "contact.law: no friction law file", id="no-such-file"),
     pytest.param((ROOT / "examples" / "laws" / "jenkins.py").read_text()
                  .replace('"mu": Parameter', '"mu_c": Parameter').replace("p.mu", "p.mu_c"), [],

@@ -98,19 +98,25 @@ class LawError(ValueError):
         self.detail = detail
 
 
-def law_fault(err: BaseException, source, function: str) -> LawError:
-    """An exception raised inside a user's law function as a LawError in one line:
-    the law file and the line of it where the exception arose (its innermost frame in
-    that file), the function, the exception, and that the law is at fault."""
+def where_in_law(err: BaseException, source) -> str:
+    """``source, line N (its text)``: the law file and its innermost line in ``err``'s
+    traceback (the file alone where no frame is the law's)."""
     path = str(source)
-    line = ""
+    where = path
     for frame in traceback.extract_tb(err.__traceback__):
         if frame.filename == path:
-            line = f", line {frame.lineno} ({frame.line.strip()})" if frame.line else \
-                f", line {frame.lineno}"
+            where = f"{path}, line {frame.lineno}" + (f" ({frame.line.strip()})"
+                                                      if frame.line else "")
+    return where
+
+
+def law_fault(err: BaseException, source, function: str) -> LawError:
+    """An exception raised inside a user's law function as a LawError in one line:
+    the law file and the line of it where the exception arose, the function, the
+    exception, and that the law is at fault."""
     message = f"{type(err).__name__}: {err}" if str(err) else type(err).__name__
-    return LawError(f"{path}{line}: the law's {function}() raised {message}; an error "
-                    "in the law file, not in vibrofric: fix the law (the contract: "
+    return LawError(f"{where_in_law(err, source)}: the law's {function}() raised {message}; "
+                    "an error in the law file, not in vibrofric: fix the law (the contract: "
                     "vibrofric.friction_law.contract)")
 
 
@@ -330,7 +336,8 @@ def _load_module(name: str):
             raise
         except BaseException as err:  # SystemExit too: a law's import never ends the run
             del sys.modules[module_name]
-            raise LawError(f"{path} could not be loaded: {type(err).__name__}: {err}") from None
+            raise LawError(f"{where_in_law(err, path)}: could not be loaded: "
+                           f"{type(err).__name__}: {err}") from None
         return module, path
     try:
         module = importlib.import_module(name)
