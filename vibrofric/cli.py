@@ -396,14 +396,12 @@ def _shown(value) -> str:
 
 def cmd_keys(args) -> None:
     from . import scene as scene_module
-    from .api import scene_file, scene_keys
+    from .api import load_scene, scene_file, scene_keys
 
     if args.scene is not None:
         scene = scene_module.load(scene_file(args.scene), args.overrides)
-    else:   # the defaults, with --set as on any scene
-        scene = scene_module.from_dict({})
-        scene = scene.with_values(dict(scene_module.parse_assignment(text)
-                                       for text in args.overrides))
+    else:   # every key at its default, with --set as on any scene
+        scene = load_scene({}, **dict(map(scene_module.parse_assignment, args.overrides)))
     table = scene_keys(scene)
     if args.json:
         print(json.dumps(table.to_dict(orient="records"), indent=2, default=list))

@@ -63,11 +63,11 @@ law file, its line and the function (law_fault), never a crash of vibrofric.
 
 import functools
 import hashlib
-import traceback
 import importlib
 import importlib.util
 import math
 import sys
+import traceback
 import types
 from dataclasses import dataclass, field
 from pathlib import Path
