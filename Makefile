@@ -1,8 +1,8 @@
 # Two commands do everything on a fresh Debian machine:
 #   make demo   install what is missing, then run the default scene
 #   make test   install what is missing, then run the test suite (all of it,
-#               the slow FE cases too: 4-6 min on two cores; "make test-fast"
-#               runs the default selection)
+#               the slow FE cases too: a few minutes, measured in
+#               docs/performance.md; "make test-fast" runs the default selection)
 # Both are idempotent: a second call installs nothing.
 #
 # The current DOLFINx (PyPI dolfinx-solver-real) runs beside Debian's 0.5.2:

@@ -36,7 +36,7 @@ from vibrofric.analytic.solve import solve as run_analytic  # noqa: E402
 from vibrofric.analytic.summary import summarize  # noqa: E402
 from vibrofric.core.errors import NumericalError  # noqa: E402
 from vibrofric.fem import run_fe  # noqa: E402
-from vibrofric.fe_beside_analytic import analytic_scene  # noqa: E402
+from vibrofric.core.law_limits import slip_resolved  # noqa: E402
 
 LAWS_DIR = ROOT / "examples" / "laws"
 LAWS = [  # (label, contact.law, its parameters)
@@ -75,7 +75,7 @@ def ratio_fe(scene) -> float:
 
 
 def ratio_analytic(scene) -> float:
-    return run_analytic(analytic_scene(scene))[1]["F_dv_over_F_d0"]
+    return run_analytic(slip_resolved(scene))[1]["F_dv_over_F_d0"]
 
 
 def rows(quick: bool):

@@ -4,7 +4,7 @@ Prescribed sliding (drive.mode = "velocity", the setting of the closed-form
 literature) on the paper's two cases, the Fig 7 scene (longitudinal, k_v = 6)
 and the transverse one (k_v = 20, theta = 270 deg), with k_t from the paper's
 80 MN/m to 1000 times it. For each: the lumped stepper (at the step that
-resolves the slip, fe_beside_analytic.analytic_scene), the FE model with the explicit
+resolves the slip, core.law_limits.slip_resolved), the FE model with the explicit
 integrator (on the coarse mesh, at 1e-6 s or the largest of 5e-7, 2.5e-7 s
 below the stable step), and the rigid-Coulomb ratio (analytic/closed_form.py).
 
@@ -33,7 +33,7 @@ from vibrofric.analytic.closed_form import coulomb_ratio
 from vibrofric.bench.machine import cpu_name
 from vibrofric.fem import run_fe
 from vibrofric.fem.model.fe_model import build_model
-from vibrofric.fe_beside_analytic import analytic_scene
+from vibrofric.core.law_limits import slip_resolved
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"
 CASES = {"longitudinal": "longitudinal.toml", "transverse": "transverse.toml"}
@@ -55,7 +55,7 @@ def explicit_step(scene) -> float:
 
 
 def lumped(scene) -> float:
-    stepper_scene = analytic_scene(scene)
+    stepper_scene = slip_resolved(scene)
     return summarize(run_coupled(stepper_scene), stepper_scene, 0.0)["F_dv_over_F_d0"]
 
 

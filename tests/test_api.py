@@ -117,6 +117,30 @@ def test_sweep_table_equals_single_runs():
     assert table["F_dv_over_F_d0"].iloc[3] == one.F_dv_over_F_d0
 
 
+def _as_value(scene) -> tuple:
+    """What makes a scene a value: its pickle, its hash, and an unpickled copy equal to it."""
+    import pickle
+
+    data = pickle.dumps(scene)
+    assert pickle.loads(data) == scene
+    return data, hash(scene)
+
+
+def test_a_scene_is_the_same_value_after_a_run():
+    """A run keeps nothing in its scene (the README's example: a scene run, then swept over
+    both cores, which pickles it into the workers)."""
+    scene = vf.load_scene("longitudinal", **SHORT)
+    before = _as_value(scene)
+    vf.run_analytic(scene)
+    assert _as_value(scene) == before
+    assert vf.load_scene(scene) == scene and hash(vf.load_scene(scene)) == before[1]
+    table = vf.sweep(scene, {"vibration.k_v": [2, 6]}, workers=2)
+    assert len(table) == 2 and table["F_dv_over_F_d0"].notna().all()
+    assert _as_value(scene) == before
+    other = scene.with_values({"contact.mu": 0.2})
+    assert other != scene and hash(other) != hash(scene)   # a law parameter is part of the value
+
+
 def test_sweep_to_disk_resumes(tmp_path):
     scene = vf.load_scene("longitudinal", **SHORT)
     first = vf.sweep(scene, {"vibration.k_v": [2, 6]}, out=tmp_path / "s", workers=1)
@@ -148,7 +172,11 @@ def test_only_the_command_imports_the_api():
 @pytest.mark.slow
 def test_fe_result_beside_the_analytic_one(tmp_path):
     scene = vf.load_scene("longitudinal", **{"time.T": 0.16, "fem.mesh": "tiny"})
+    before = _as_value(scene)
     quiet = vf.run_fe(scene)
+    assert _as_value(scene) == before   # the FE run kept nothing in its scene either
+    # one scene, one analytic answer: the stepper beside the FE model runs at the scene's dt
+    assert quiet.analytic.F_dv_over_F_d0 == vf.run_analytic(scene).F_dv_over_F_d0
     assert quiet.out is None and quiet.info["vtk"] is None
     assert quiet.analytic is not None and 0 < quiet.F_dv_over_F_d0 < 1
     assert quiet.rel_error == abs(quiet.F_dv_over_F_d0 - quiet.analytic.F_dv_over_F_d0) / \
@@ -158,3 +186,51 @@ def test_fe_result_beside_the_analytic_one(tmp_path):
     assert written.F_dv_over_F_d0 == quiet.F_dv_over_F_d0  # ParaView frames change no number
     assert (tmp_path / "fe" / "paraview" / "block.pvd").exists()
     assert json.loads((tmp_path / "fe" / "summary.json").read_text())["out"] == str(tmp_path / "fe")
+
+
+def test_scene_keys_lists_every_key_with_its_value_default_and_unit():
+    """Every key of a scene, each settable by its name to the value listed (setting every
+    one gives the scene back); defaults those of a scene of defaults; a unit for each
+    number of the sections (scene.reference.UNITS) and the law's own."""
+    from vibrofric import scene as scene_module
+    from vibrofric.scene.reference import UNITS
+
+    scene = vf.load_scene("transverse", **{"vibration.k_v": 2, "contact.lugre.F_s": 7.0})
+    table = vf.scene_keys(scene)
+    assert list(table.columns) == ["key", "value", "default", "unit", "meaning"]
+    keys = table.set_index("key")
+    defaults = scene_module.from_dict({})
+    for section, cls in scene_module.SECTIONS.items():
+        for name in cls.__dataclass_fields__:
+            if name not in ("parameters", "tables"):
+                key = f"{section}.{name}"
+                assert keys.loc[key, "value"] == scene.get(key)
+                assert keys.loc[key, "default"] == defaults.get(key)
+    assert set(UNITS) <= set(keys.index)
+    assert keys.loc["vibration.k_v", ["value", "default"]].tolist() == [2.0, 6.0]
+    assert keys.loc["contact.k_t", "value"] == scene.contact.k_t and \
+        keys.loc["contact.k_t", "unit"] == "N/m"
+    assert keys.loc["contact.lugre.F_s", "value"] == 7.0          # another law's table
+    settable = {key: value for key, value in zip(table["key"], table["value"]) if value is not None}
+    again = scene.with_values(settable)   # (the law's defaults now set outright: same values)
+    assert again.contact.law_values == scene.contact.law_values
+    assert scene_module.to_dict(again) | {"contact": {}} == scene_module.to_dict(scene) | {
+        "contact": {}} and again.contact.tables == scene.contact.tables
+    assert keys.loc["body.mass", "meaning"] == "the block's mass"   # the comment, less its unit
+
+
+def test_keys_command_is_the_api_in_a_table(capsys):
+    from vibrofric.cli import main
+
+    assert main(["keys", "transverse", "--set", "vibration.k_v=2"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0].split() == ["key", "value", "default", "unit", "meaning"]
+    rows = {line.split()[0]: line.split() for line in lines[1:]}
+    assert len(rows) == len(vf.scene_keys("transverse"))
+    assert rows["vibration.k_v"][1:4] == ["2", "6", "-"]
+    assert rows["body.mass"][1:4] == ["2", "0.5", "kg"]
+    assert main(["keys", "--json"]) == 0
+    listed = json.loads(capsys.readouterr().out)
+    assert {row["key"]: row["value"] for row in listed}["body.mass"] == 0.5   # the defaults
+    assert main(["keys", "--set", "vibration.kv=2"]) == 2
+    assert "vibration.kv: unknown key" in capsys.readouterr().err

@@ -703,14 +703,14 @@ def test_prescribed_sliding_on_a_stiff_block_on_a_stiff_contact_matches_the_lump
     """E x 100 and k_t x 100 (8e9 N/m): the block is nearly the lumped model's rigid
     body, and the contact is at the rigid-Coulomb limit. Reduced at 1e-6 s, 2 ms of
     vibration after 2 ms of sliding, against the lumped stepper at the step that
-    resolves the slip (fe_beside_analytic.analytic_scene): measured -1e-4 (longitudinal) and
+    resolves the slip (core.law_limits.slip_resolved): measured -1e-4 (longitudinal) and
     -3e-4 (transverse). 1e-3 leaves room for the block's remaining compliance
     and rocking (the README's 5 mm tall stiff block: 1.5e-3 and 1.7e-3)."""
-    from vibrofric.fe_beside_analytic import analytic_scene
+    from vibrofric.core.law_limits import slip_resolved
     scene = load(path, 'drive.mode="velocity"', "contact.k_t=8e9", "body.E=2.09e13",
                  "vibration.t_on=0.002", "time.T=0.006", "time.average_cycles=8",
                  "fem.output_every=0", 'fem.integrator="reduced"', "time.dt=1e-6")
     fe = run_fe(scene, comm)
-    stepper = analytic_scene(scene)
+    stepper = slip_resolved(scene)
     lumped = summarize(run_coupled(stepper), stepper, 0.0)["F_dv_over_F_d0"]
     assert ratio(fe, scene) == pytest.approx(lumped, rel=1e-3)

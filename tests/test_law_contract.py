@@ -13,6 +13,7 @@ model on a rigid block.
 
 import math
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -53,6 +54,24 @@ if os.environ.get("VIBROFRIC_LAW"):
     USER_NAME = USER_LAW.stem if USER_LAW.stem not in LAWS else f"user-{USER_LAW.stem}"
     LAWS[USER_NAME] = (str(USER_LAW), {})
     BOUNDED.append(USER_NAME)
+
+
+def conforms(holds: bool, prop: str, value, limit: str, fix: str) -> None:
+    """One property of the contract checked: a failure says in one sentence which property,
+    the law's value, the limit and the usual fix (and no traceback or arrays)."""
+    if not holds:
+        shown = f"{value:.4g}" if isinstance(value, (float, np.floating)) else value
+        pytest.fail(f"{prop}: the law gives {shown}, the limit is {limit}; usual fix: {fix}",
+                    pytrace=False)
+
+
+# The usual fixes, for the properties several tests check
+RADIAL_RETURN = ("bring the state back within max_friction_coefficient times this step's own "
+                 "normal_force before and after adding the slip (the radial return, "
+                 "docs/friction-laws.md: the rule for a changing normal force), or declare in "
+                 "bounds() the max_friction_coefficient the law really reaches")
+FINITE = ("guard every division in update (by normal_force, by the stiffness, by the "
+          "deformation's norm, which is 0 at rest)")
 
 
 def given_values(name) -> dict:
@@ -112,7 +131,11 @@ def test_rotation_invariance(name):
     forces, _ = run_history(law, slip, free)
     rotated, _ = run_history(law, rotate(slip, 0.7), rotate(free, 0.7))
     # isotropic: equal up to the rounding of the rotation itself, accumulated over 300 steps
-    np.testing.assert_allclose(rotated, rotate(forces, 0.7), rtol=0, atol=1e-11 * F_N)
+    apart = np.abs(rotated - rotate(forces, 0.7)).max()
+    conforms(apart <= 1e-11 * F_N, "isotropy (the slip and base moves rotated by 0.7 rad, the "
+             "force must rotate with them)", f"{apart:.3g} N apart", f"{1e-11 * F_N:.3g} N",
+             "compute the force from the deformation vector, its norm and direction, never "
+             "from X and Y separately (a limit or a sign per axis)")
 
 
 @pytest.mark.parametrize("name", BOUNDED)
@@ -121,9 +144,12 @@ def test_force_within_declared_bound(name):
     slip, free = history(500, 8, 2)
     forces, _ = run_history(law, 3.0 * slip, 3.0 * free)  # fast slips, ~1 s_c a step
     bound = law.bounds(1e-6).max_friction_coefficient * F_N   # each node carries F_N here
-    assert np.all(np.isfinite(forces))
+    conforms(np.all(np.isfinite(forces)), "a finite force under fast slips (~1 s_c a step)",
+             "a force that is not finite", "finite", FINITE)
     # rounding of the force's norm only (1e-12 relative)
-    assert np.hypot(forces[..., 0], forces[..., 1]).max() <= bound * (1.0 + 1e-12)
+    largest = np.hypot(forces[..., 0], forces[..., 1]).max()
+    conforms(largest <= bound * (1.0 + 1e-12), "the force within max_friction_coefficient F_N",
+             f"|F| up to {largest:.6g} N", f"{bound:.6g} N", RADIAL_RETURN)
 
 
 def normal_history(steps, nodes, seed):
@@ -151,12 +177,19 @@ def test_coulomb_limit_at_each_steps_normal_force(name):
     state = law.law.initial_state(nodes)
     share = np.full(nodes, 1.0 / nodes)
     mu_max = law.bounds(1e-6).max_friction_coefficient
-    for s, f, n in zip(3.0 * slip, 3.0 * free, normal):
+    for step, (s, f, n) in enumerate(zip(3.0 * slip, 3.0 * free, normal)):
         force = np.hypot(*contact_step(law, state, s, f, n, share, 1e-6).T)
-        assert np.all(np.isfinite(force))
+        conforms(np.all(np.isfinite(force)), f"a finite force under a changing normal force "
+                 f"(step {step})", "a force that is not finite", "finite", FINITE)
         # the force's norm is rounded once (1e-12 relative)
-        assert np.all(force <= mu_max * n * (1.0 + 1e-12))
-        assert np.all(force[n == 0.0] == 0.0)
+        ratio = np.max(np.where(n > 0.0, force / np.where(n > 0.0, n, 1.0), 0.0))
+        conforms(np.all(force <= mu_max * n * (1.0 + 1e-12)),
+                 f"|F| / N within max_friction_coefficient at each step's own normal force "
+                 f"(step {step})", f"|F| / N = {ratio:.6g}", f"{mu_max:.6g}", RADIAL_RETURN)
+        released = force[n == 0.0].max(initial=0.0)
+        conforms(released == 0.0, f"no force out of contact, N = 0 (step {step})",
+                 f"|F| = {released:.3g} N", "0", "return (0, 0) and set the state to "
+                 "INITIAL_STATE when normal_force <= 0")
 
 
 @pytest.mark.parametrize("name", LAWS)
@@ -170,14 +203,21 @@ def test_a_dropped_normal_force_returns_the_force_to_its_limit(name):
     slip = np.array([[0.02 * S_C, 0.0]])
     for _ in range(2000):      # 40 s_c at 0.02 s_c a step: sliding, at the limit
         force = contact_step(law, state, slip, np.zeros((1, 2)), np.array([F_N]), np.ones(1), 1e-6)
-    assert np.hypot(*force[0]) > 0.9 * law.bounds(1e-6).friction_coefficient * F_N
+    sliding = law.bounds(1e-6).friction_coefficient * F_N
+    conforms(np.hypot(*force[0]) > 0.9 * sliding, "sliding at the limit after 40 s_c of slip",
+             f"|F| = {np.hypot(*force[0]):.4g} N", f"more than 0.9 of friction_coefficient F_N "
+             f"= {0.9 * sliding:.4g} N", "declare in bounds() the friction_coefficient the law "
+             "slides at, and let the force grow with slip up to it")
     # The norm's rounding (1e-12 relative); the paper's update slides at up to
     # (slip / s_c)^2 / 4 = 1e-4 past its limit (i < 1), and keeps that overshoot.
     overshoot = 0.25 * 0.02 ** 2 if LAWS[name][1].get("update") == "paper" else 0.0
     for drop in (0.5, 0.2, 0.9):
         force = contact_step(law, state, np.zeros((1, 2)), np.zeros((1, 2)),
                              np.array([drop * F_N]), np.ones(1), 1e-6)
-        assert np.hypot(*force[0]) <= mu_max * F_N * (drop + overshoot) * (1.0 + 1e-12)
+        limit = mu_max * F_N * (drop + overshoot) * (1.0 + 1e-12)
+        conforms(np.hypot(*force[0]) <= limit, f"the force back within the limit at once when "
+                 f"the normal force drops to {drop} F_N", f"|F| = {np.hypot(*force[0]):.6g} N",
+                 f"{limit:.6g} N", RADIAL_RETURN)
 
 
 @pytest.mark.parametrize("name", LAWS)
@@ -193,7 +233,10 @@ def test_release_out_of_contact_and_return_from_rest(name):
     returned = contact_step(law, state, slip[199], free[199], np.array([F_N]), np.ones(1), 1e-6)
     fresh = contact_step(law, law.law.initial_state(1), slip[199], free[199], np.array([F_N]),
                          np.ones(1), 1e-6)
-    np.testing.assert_array_equal(returned, fresh)
+    apart = np.abs(returned - fresh).max()
+    conforms(apart == 0.0, "back in contact after N = 0, the step of a node at rest",
+             f"a force {apart:.3g} N from it", "0 (bit for bit)",
+             "set the state to INITIAL_STATE when normal_force <= 0")
 
 
 @pytest.mark.parametrize("name", LAWS)
@@ -217,8 +260,14 @@ def test_closed_slip_cycle_dissipates(name):
             work += float(force[0] @ step[0])
     dissipated = work - (energy(state[0], law.params, 1.0) - start_energy)
     # the slider dissipates ~4 F_c s_c per turn of this size; rounding is ~1e-15 of that
-    assert dissipated >= -1e-9 * 0.1 * F_N * S_C
-    assert dissipated > 0.1 * (0.1 * F_N) * S_C   # and really dissipates
+    conforms(dissipated >= -1e-9 * 0.1 * F_N * S_C, "no energy made over a closed slip cycle",
+             f"{dissipated:.3g} J dissipated", f">= {-1e-9 * 0.1 * F_N * S_C:.3g} J",
+             "stored_energy must be the energy the state holds (k d^2 / 2 with the node's "
+             "stiffness share k_t area_share); else a phase's sign is wrong (phase 1 adds "
+             "the slip, phase 2 subtracts the free end's move)")
+    conforms(dissipated > 0.1 * (0.1 * F_N) * S_C, "dissipation over a closed slip cycle "
+             "of radius 2 s_c", f"{dissipated:.3g} J", f"> {0.1 * (0.1 * F_N) * S_C:.3g} J "
+             "(a tenth of a slider's)", "let the law slide once |F| reaches its limit")
 
 
 @pytest.mark.parametrize("name", LAWS)
@@ -228,8 +277,13 @@ def test_1d_stepper_equals_coupled_along_x(name):
     scene = short_scene(name)
     coupled, one_d = run_coupled(scene), run_longitudinal(scene)
     scale = np.abs(coupled.F_d).max()
-    assert np.abs(coupled.F_d - one_d.F_d).max() <= 1e-12 * scale
-    assert np.all(coupled.F_y == 0.0)
+    apart = np.abs(coupled.F_d - one_d.F_d).max()
+    conforms(apart <= 1e-12 * scale, "the 1D stepper's drive force equal to the coupled one's "
+             "along X", f"{apart:.3g} N apart", f"{1e-12 * scale:.3g} N", "treat Y as X: with "
+             "slip_y, free_x and free_y 0, update must give F_y = 0 and the 1D force")
+    conforms(np.all(coupled.F_y == 0.0), "no F_y while nothing moves in Y",
+             f"|F_y| up to {np.abs(coupled.F_y).max():.3g} N", "0",
+             "treat Y as X: no force in Y without a slip or a base move in Y")
 
 
 @pytest.mark.parametrize("name, overrides, contact", [
@@ -271,9 +325,13 @@ def test_fe_node_reproduces_lumped_forces(name, overrides, contact):
             fe[i] = total[1:]
             old, xb, yb = new, lumped.x_b[i], lumped.y_b[i]
         scale = np.abs(np.column_stack([lumped.F_x, lumped.F_y])).max()
-        assert scale > 0.5 * scene.F_c and np.abs(lumped.F_y).max() > 0.1 * scene.F_c
-        assert np.abs(fe[:, 0] - lumped.F_x).max() <= 1e-10 * scale
-        assert np.abs(fe[:, 1] - lumped.F_y).max() <= 1e-10 * scale
+        assert scale > 0.5 * scene.F_c and np.abs(lumped.F_y).max() > 0.1 * scene.F_c, \
+            "the lumped run slides in X and Y (this check's own premise)"
+        apart = np.abs(fe - np.column_stack([lumped.F_x, lumped.F_y])).max()
+        conforms(apart <= 1e-10 * scale, f"an FE contact node of area share 1 gives the lumped "
+                 f"stepper's force (fem.normal_force = {rule!r})", f"{apart:.3g} N apart",
+                 f"{1e-10 * scale:.3g} N", "read nothing but update's arguments (no global "
+                 "state, no time of your own), and take the slip and free-end increments as given")
 
 
 @pytest.mark.parametrize("theta", [0.0, 90.0], ids=["longitudinal", "transverse"])
@@ -291,7 +349,10 @@ def test_dt_convergence_at_declared_order(name, theta):
         means.append(series.F_d[series.t >= 0.008].mean())
     errors = np.abs(np.array(means[:3]) - means[3])
     observed = np.log2(errors[0] / errors[2]) / 2.0
-    assert abs(observed - order) < 0.5, (errors, observed)
+    conforms(abs(observed - order) < 0.5, f"convergence in dt at the declared ORDER = {order}",
+             f"an observed order of {observed:.3g} (errors {', '.join(f'{e:.3g}' for e in errors)}"
+             " N at dt 4e-6, 2e-6, 1e-6 s)", f"ORDER +- 0.5", "declare ORDER = 1: the two-phase "
+             "split is first order whatever the update's own accuracy")
 
 
 @pytest.mark.parametrize("stem, name", [("my_law", "my_law"), ("jenkins", "user-jenkins")])
@@ -325,6 +386,34 @@ def test_a_users_law_is_selected_by_its_file_name(tmp_path, stem, name):
         assert f"test_rotation_invariance[{stem}]" in ids    # the example law still runs
 
 
+def test_a_failing_property_is_said_in_one_sentence(tmp_path):
+    """A law that breaks a property (Jenkins keeping its deformation through a step out of
+    contact) fails the suite with one sentence naming the property, the law's value, the
+    limit and the usual fix; no traceback, no arrays."""
+    import subprocess
+    import sys
+
+    from conftest import child_environment
+
+    law = tmp_path / "keeps_its_state.py"
+    law.write_text(JENKINS.replace("        state[0] = state[1] = 0.0\n        return 0.0, 0.0",
+                                   "        return 0.0, 0.0"))
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", str(Path(__file__)), "-q", "-p", "no:cacheprovider",
+         "-p", "no:xdist", "-k", "release_out_of_contact and keeps_its_state"],
+        capture_output=True, text=True, timeout=600, cwd=ROOT,
+        env=child_environment(VIBROFRIC_LAW=str(law)))
+    assert done.returncode == 1, done.stdout + done.stderr
+    said = [line for line in done.stdout.splitlines() if "usual fix:" in line]
+    assert len(said) == 1, done.stdout
+    assert re.search(r"back in contact after N = 0, the step of a node at rest: the law gives "
+                     r"a force \S+ N from it, the limit is 0 \(bit for bit\); usual fix: set "
+                     r"the state to INITIAL_STATE when normal_force <= 0", said[0]), said[0]
+    assert "Traceback" not in done.stdout and "array(" not in done.stdout
+    # the line docs/friction-laws.md shows, as said
+    assert f"    {said[0].strip()}\n" in (ROOT / "docs" / "friction-laws.md").read_text()
+
+
 def test_the_example_law_runs_through_the_command(tmp_path, capsys):
     """``vibrofric analytic`` on the example scene: the law file named relative to it."""
     from vibrofric.cli import main
@@ -340,9 +429,13 @@ def test_the_example_law_runs_through_the_command(tmp_path, capsys):
 @pytest.mark.parametrize("source, extra, message", [
     pytest.param("PARAMETERS = {}\n", [], "is not a friction law: it lacks STATE_SIZE",
                  id="lacks-state-size"),
-    pytest.param("raise RuntimeError('broken')\n", [], "could not be loaded: RuntimeError: broken",
-                 id="raises-at-import"),
+    pytest.param("raise RuntimeError('broken')\n", [], "bad_law.py, line 1 (raise RuntimeError("
+                 "'broken')): could not be loaded: RuntimeError: broken", id="raises-at-import"),
     pytest.param(None, [], "contact.law: no friction law file", id="no-such-file"),
+    pytest.param((ROOT / "examples" / "laws" / "jenkins.py").read_text()
+                 .replace('"mu": Parameter', '"mu_c": Parameter').replace("p.mu", "p.mu_c"), [],
+                 "PARAMETERS lacks mu: every friction law declares the parameters mu, its "
+                 "friction coefficient (F_d0 = mu F_N", id="lacks-mu"),
     pytest.param((ROOT / "examples" / "laws" / "maxwell_slip.py").read_text(),
                  ["contact.stiffness=1e6"], "contact.stiffness: not a parameter of the friction law",
                  id="unknown-parameter"),
@@ -392,18 +485,23 @@ def test_rigid_contact_patch_reproduces_lumped_law(name):
     from vibrofric.analytic.solve import solve as run_analytic
     from vibrofric.analytic.summary import summarize
     from vibrofric.fem import run_fe
-    from vibrofric.fe_beside_analytic import analytic_scene
+    from vibrofric.core.law_limits import slip_resolved
 
     scene = short_scene(name, *RIGID_FLAT_BLOCK, 'fem.integrator="reduced"', "fem.output_every=0",
                         'fem.mesh="tiny"', "time.average_cycles=8")
     fe = summarize(run_fe(scene).series, scene, 0.0)["F_dv_over_F_d0"]
-    analytic = run_analytic(analytic_scene(scene))[1]["F_dv_over_F_d0"]
+    analytic = run_analytic(slip_resolved(scene))[1]["F_dv_over_F_d0"]
     # The paper's explicit update is first order in its own step, which the FE model
     # runs on sub-steps (dt / 2 here) and the lumped stepper does not: FE and lumped then
     # differ by that step error (measured 4.5e-4 at i = 1, 2.9e-4 at i = 0.5): 1e-3.
     paper = LAWS[name][1].get("update") == "paper"
     tolerance = 1e-3 if paper else RIGID_PATCH_TOLERANCE
-    assert abs(fe - analytic) <= tolerance * analytic, (fe, analytic)
+    conforms(abs(fe - analytic) <= tolerance * analytic, "the FE model of a rigid flat block "
+             "gives the lumped model's F_dv/F_d0", f"{fe:.6g} against {analytic:.6g}, "
+             f"{abs(fe - analytic) / analytic:.3g} apart", f"{tolerance:.3g} relative",
+             "share every whole-contact quantity out by area_share (stiffnesses, dampings) "
+             "and take limits (mu N, a Stribeck or static force) from the node's own "
+             "normal_force, so that the nodes sum to the lumped contact")
 
 
 JENKINS = (ROOT / "examples" / "laws" / "jenkins.py").read_text()
@@ -457,6 +555,59 @@ def test_a_broken_law_is_refused_in_one_line(tmp_path, capsys, case):
               f"contact.law={law}", "--out", str(out), "--verbose"])
         verbose = capsys.readouterr().err
         assert "Failed in nopython mode" in verbose and "\x1b[" not in verbose
+
+
+def test_a_law_reads_its_parameters_by_name_either_way(tmp_path):
+    """``p`` is the parameter values by name: ``p.mu`` and ``p["mu"]`` are one value
+    (a newcomer's law read ``p["mu_s"]``, the guide's "by name")."""
+    import vibrofric as vf
+
+    by_item = (JENKINS.replace("stiffness=p.k_t, max_stiffness=p.k_t",
+                               'stiffness=p["k_t"], max_stiffness=p["k_t"]')
+               .replace("    return p.mu * normal_force", '    return p["mu"] * normal_force'))
+    law = tmp_path / "by_item.py"
+    law.write_text(by_item)
+    scene = vf.load_scene("longitudinal", **{"time.T": 0.2})
+    mine = vf.run_analytic(scene.with_values({"contact.law": str(law)}))
+    jenkins = vf.run_analytic(scene.with_values({"contact.law": LAWS["jenkins"][0]}))
+    assert mine.F_dv_over_F_d0 == jenkins.F_dv_over_F_d0
+    assert mine.summary["F_d0"] == jenkins.summary["F_d0"] == 0.1 * F_N
+
+
+# An exception raised inside a user's law's Python functions: (law file, the line it
+# names, the function and exception the message names)
+FAULTY_LAWS = {
+    "unknown-name-in-steady-sliding": (
+        JENKINS.replace("    return p.mu * normal_force", '    return p["mu_s"] * normal_force'),
+        'return p["mu_s"] * normal_force', "the law's steady_sliding_force() raised KeyError: "
+                                             "'mu_s'"),
+    "zero-division-in-bounds": (
+        JENKINS.replace("departure=1.0)", "departure=1.0 / (p.mu - p.mu))"),
+        "departure=1.0 / (p.mu - p.mu))", "the law's bounds() raised ZeroDivisionError"),
+}
+
+
+@pytest.mark.parametrize("command", ["analytic", pytest.param("run", marks=pytest.mark.slow)])
+@pytest.mark.parametrize("case", FAULTY_LAWS)
+def test_an_error_inside_a_law_is_the_laws_in_one_line(tmp_path, capsys, case, command):
+    """An exception out of a user's bounds() or steady_sliding_force() is refused when the
+    scene is read, in one line naming the law file and its line, exit 2, nothing written;
+    before, "failed unexpectedly ... please report it", exit 1, as for a bug of vibrofric."""
+    from vibrofric.cli import main
+
+    source, line, said = FAULTY_LAWS[case]
+    law = tmp_path / f"{case.replace('-', '_')}.py"
+    source += f"# {command}\n"   # a law file is loaded once per content (load_law): its own
+    law.write_text(source)
+    number = next(n for n, text in enumerate(source.splitlines(), 1) if line in text)
+    out = tmp_path / "out"
+    code = main([command, "longitudinal", "--set", f"contact.law={law}", "--out", str(out)])
+    error = capsys.readouterr().err
+    assert code == 2 and error.count("\n") == 1, error
+    assert error.startswith(f"vibrofric: invalid scene: contact.law: {law}, line {number} (")
+    assert line in error   # the line's text, as a traceback shows it
+    assert said in error and "not in vibrofric" in error and "please report" not in error
+    assert not out.exists()
 
 
 # Laws that pass their first steps, checked when loaded, and fail later: after many

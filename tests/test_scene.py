@@ -140,3 +140,27 @@ def test_set_changes_a_key_where_the_scene_holds_it():
 ])
 def test_a_key_for_no_law_or_another_law_is_refused(overrides, key, refused_key):
     assert refused_key(lambda: scene_module.load("scenes/longitudinal.toml", overrides)) == key
+
+
+@pytest.mark.parametrize("method", ["auto", "periodic", "transient"])
+def test_a_short_T_is_refused_with_the_shortest_T_that_works(method):
+    """time.T must hold the stepped run's averaging window after vibration.t_on (the fallback
+    of auto and periodic): a shorter T is refused naming the shortest one, which runs;
+    under auto and periodic the message says what T is for."""
+    import vibrofric as vf
+    from vibrofric.scene.validation import shortest_T
+
+    scene = scene_module.load("scenes/longitudinal.toml", [f'time.method="{method}"'])
+    shortest = float(f"{shortest_T(scene):.4g}")
+    # t_on and the window of the drive system's period (57 cycles at 4 kHz)
+    assert shortest == pytest.approx(0.14 + 57 / 4000.0, abs=1e-4)
+    for T in (0.1, 0.15, shortest - 1e-4):
+        with pytest.raises(SceneError) as err:
+            scene.with_values({"time.T": T})
+        assert err.value.key == "time.T"
+        assert f"the shortest T that works is {shortest:g} s" in str(err.value)
+        assert ("the steady cycle is solved for directly" in str(err.value)) == \
+            (method != "transient")
+    vf.run_analytic(scene.with_values({"time.T": shortest}))    # runs, without a refusal
+    docs = (Path(__file__).resolve().parents[1] / "docs" / "periodic.md").read_text()
+    assert f"({shortest:g} s on the shipped\nlongitudinal scene" in docs

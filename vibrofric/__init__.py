@@ -11,8 +11,8 @@ loaded or a model runs.
 
 __version__ = "0.1.0"
 
-__all__ = ["Result", "load_law", "load_scene", "run_analytic", "run_fe", "scene_names", "sweep",
-           "__version__"]
+__all__ = ["Result", "load_law", "load_scene", "run_analytic", "run_fe", "scene_keys",
+           "scene_names", "sweep", "__version__"]
 
 
 def __getattr__(name: str):

@@ -131,6 +131,28 @@ def load_law(name: str | Path) -> "FrictionLaw":
     return load(str(name))
 
 
+def scene_keys(source: str | Path | Mapping | "Scene" = "longitudinal",
+               **overrides: Any) -> "pandas.DataFrame":
+    """Every key of a scene, one row a key: ``key`` (as ``--set`` names it), the scene's
+    ``value``, the ``default``, the ``unit`` ("" for none) and its ``meaning``; the
+    sections' keys, then the parameters of its law, then other laws' tables it holds.
+    ``source`` and ``overrides`` as for load_scene (scene.reference).
+
+    >>> keys = scene_keys("transverse").set_index("key")
+    >>> keys.loc["body.mass", ["value", "default", "unit"]].tolist()
+    [2.0, 0.5, 'kg']
+    >>> keys.loc["contact.k_t", ["value", "unit"]].tolist()
+    [67290000.0, 'N/m']
+    """
+    import pandas
+
+    from .scene.reference import scene_keys as keys
+
+    rows = keys(load_scene(source, **overrides))
+    return pandas.DataFrame([(k.key, k.value, k.default, k.unit, k.meaning) for k in rows],
+                            columns=["key", "value", "default", "unit", "meaning"])
+
+
 @dataclass
 class Result:
     """One run's results.
@@ -145,7 +167,7 @@ class Result:
     out         the results directory (None if nothing was written); an FE
                 run's ParaView series is out / "paraview" / "block.pvd"
     analytic    for an FE run, the analytic stepper's Result beside it (at
-                time.dt <= 1e-6 s); None for an analytic run
+                the scene's time.dt: run_analytic's); None for an analytic run
     rel_error   for an FE run, |FE - analytic| / analytic on F_dv/F_d0
     info        for an FE run, the model's information (fe_info of summary.json)
     """

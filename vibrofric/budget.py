@@ -18,7 +18,7 @@ estimate in the message. The estimates are rough upper bounds:
             which a stiff or fast contact takes many a step (the explicit loop's
             sub-steps, fem.integrators.explicit.explicit_substeps, at most
             fem.model.contact.MAX_SUBSTEPS), and the analytic stepper run beside
-            at its own step (fe_beside_analytic.analytic_scene)
+            at the scene's time.dt
 """
 
 import copy
@@ -91,10 +91,8 @@ def friction_updates(scene) -> int:
 
 
 def analytic_beside_steps(scene) -> float:
-    """Steps of the analytic stepper an FE run runs beside it (fe_beside_analytic.analytic_scene)."""
-    from .fe_beside_analytic import analytic_scene
-
-    return scene.time.T / analytic_scene(scene).time.dt
+    """Steps of the analytic stepper an FE run runs beside it (at the scene's time.dt)."""
+    return scene.time.T / scene.time.dt
 
 
 def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) -> dict:

@@ -146,6 +146,15 @@ def build_parser() -> argparse.ArgumentParser:
     _out_argument(bench, "directory for bench.md and bench.png")
     bench.add_argument("--quick", action="store_true", help="the reduced set, under 2 minutes")
 
+    keys = commands.add_parser("keys", help="every key of a scene: its value, default, unit "
+                                            "and meaning")
+    keys.add_argument("scene", type=Path, nargs="?",
+                      help="scene file (TOML), or a shipped scene: longitudinal, transverse, "
+                           "coupled (default: every key at its default)")
+    keys.add_argument("--set", dest="overrides", action="append", default=[],
+                      metavar="SECTION.KEY=VALUE", help="override a scene key (repeatable)")
+    keys.add_argument("--json", action="store_true", help="print one JSON document to stdout")
+
     commands.add_parser("warm", help="compile the built-in friction laws' loops now (make setup "
                                      "does): later runs start at once")
     return parser
@@ -374,14 +383,47 @@ def cmd_bench(args) -> None:
     print(table)
 
 
+def _shown(value) -> str:
+    """A scene value as the keys table shows it (numbers to 12 digits, lists in brackets)."""
+    if value is None:
+        return "-"
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, float):
+        return f"{value:.12g}"
+    if isinstance(value, (tuple, list)):
+        return "[" + ", ".join(_shown(v) for v in value) + "]"
+    return str(value)
+
+
+def cmd_keys(args) -> None:
+    from . import scene as scene_module
+    from .api import load_scene, scene_file, scene_keys
+
+    if args.scene is not None:
+        scene = scene_module.load(scene_file(args.scene), args.overrides)
+    else:   # every key at its default, with --set as on any scene
+        scene = load_scene({}, **dict(map(scene_module.parse_assignment, args.overrides)))
+    table = scene_keys(scene)
+    if args.json:
+        print(json.dumps(table.to_dict(orient="records"), indent=2, default=list))
+        return
+    rows = [("key", "value", "default", "unit", "meaning")]
+    rows += [(row.key, _shown(row.value), _shown(row.default), row.unit or "-", row.meaning)
+             for row in table.itertuples()]
+    widths = [max(len(row[i]) for row in rows) for i in range(4)]
+    for row in rows:
+        print("  ".join(cell.ljust(width) for cell, width in zip(row, widths)) + "  " + row[4])
+
+
 def cmd_warm(args) -> None:
     from .warm import warm
 
     warm()
 
 
-COMMANDS = {"analytic": cmd_analytic, "bench": cmd_bench, "run": cmd_run, "sweep": cmd_sweep,
-            "warm": cmd_warm}
+COMMANDS = {"analytic": cmd_analytic, "bench": cmd_bench, "keys": cmd_keys, "run": cmd_run,
+            "sweep": cmd_sweep, "warm": cmd_warm}
 
 
 def _interrupted(command: str, signal_name: str) -> str:
@@ -469,6 +511,9 @@ def main(argv=None) -> int:
         print(_interrupted(args.command, str(interrupt)), file=sys.stderr)
         return EXIT_INTERRUPTED
     except OSError as err:
+        if err.errno == errno.EPIPE:   # stdout's reader ended (| head): nothing more to say
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())   # (nor at exit)
+            return EXIT_FAILED
         if err.errno in DISK_FULL:
             name = f" writing {err.filename}" if err.filename else ""
             print(f"vibrofric: {args.command} stopped: the disk is full ({err.strerror}){name}; "

@@ -10,26 +10,15 @@ from dataclasses import dataclass
 
 from . import output
 from .core.errors import Refusal
-from .core.law_limits import slip_resolving_step
 from .core.series import TimeSeries, written
 from .scene import refused
 
-# The analytic stepper beside an FE run takes at most this step, whatever the
-# FE run's, and at most core.law_limits.slip_resolving_step: the two-phase
-# update's error is first order in dt (Fig 7 scene: F_dv/F_d0 -0.65% at 1e-5 s
-# against 1e-6 s, within 3e-5 of 1e-8 s at 1e-6 s; k_v = 20 at 75 deg: -1.1% at
-# 1e-6 s), and an implicit FE run at 1e-5 s is accurate to ~0.2%: compared with
-# the stepper at the FE step, the difference would be mostly the stepper's
-# own error; at 1e-6 s the stepper's cost is small beside the FE run's.
-ANALYTIC_DT = 1e-6
-
-
-def analytic_scene(scene):
-    """The scene the analytic stepper runs beside an FE run (time.dt capped, see ANALYTIC_DT)."""
-    dt = min(scene.time.dt, ANALYTIC_DT, slip_resolving_step(scene))
-    if dt == scene.time.dt:
-        return scene
-    return scene.with_values({"time.dt": dt})
+# The analytic stepper beside an FE run runs the scene as it is, at its own time.dt:
+# one scene has one analytic answer, whichever command (analytic, run, sweep) runs it.
+# Its error is first order in dt (core.law_limits), so beside an FE run at a coarse
+# step (the reduced integrator at 1e-5 s: -0.65% on Fig 7) the relative difference
+# holds the stepper's own error; core.law_limits.slip_resolved is the stepper at a
+# step that resolves the slip, the reference the FE model is validated against.
 
 
 @dataclass
@@ -39,15 +28,13 @@ class FEBesideAnalytic:
     document         the JSON of ``vibrofric run`` less "out": {"fe", "analytic", "rel_error"}
     fe_info          FEResult.info, with "vtk" the ParaView series relative to the directory
     fe               the FEResult (series, fields)
-    analytic_series  the analytic stepper's TimeSeries
-    analytic_scene   the scene it ran (analytic_scene)
+    analytic_series  the analytic stepper's TimeSeries (the scene at its own time.dt)
     """
 
     document: dict
     fe_info: dict
     fe: object
     analytic_series: TimeSeries
-    analytic_scene: object
 
 
 def relative_error(fe: float | None, analytic: float | None) -> float | None:
@@ -74,7 +61,7 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
 def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesideAnalytic:
     """Run the scene's FE model (on ``comm``, default MPI.COMM_SELF; its ParaView
     frames into ``directory``/paraview if fem.output_every > 0) and the analytic
-    stepper (at time.dt <= ANALYTIC_DT); write nothing else.
+    stepper (at the scene's time.dt, as ``vibrofric analytic``); write nothing else.
     ``progress``, if given, follows the FE time loop or shooting (fem.run_fe);
     ``start``, a neighbour's FE orbit state (time.method periodic or auto: fem.run_fe);
     without it, the FE shooting starts from the analytic stepper's F_dv (run first).
@@ -86,8 +73,7 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     from .fem import run_fe
     from .fem.outputs.normal_swing import rule_note
 
-    beside = analytic_scene(scene)
-    analytic_series, analytic = solve(beside)
+    analytic_series, analytic = solve(scene)
     try:     # a shooting without a neighbour's orbit starts from the lumped model's F_dv
         fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress,
                     start=start, drive_force=analytic["F_dv"])
@@ -117,7 +103,7 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     document = {"fe": fe_summary, "analytic": analytic,
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}
     fe_info = {**fe.info, "vtk": "paraview/block.pvd" if fe.info["frames"] else None}
-    return FEBesideAnalytic(document, fe_info, fe, analytic_series, beside)
+    return FEBesideAnalytic(document, fe_info, fe, analytic_series)
 
 
 def write_beside(directory, scene, done: FEBesideAnalytic, full_series: bool = False) -> None:
@@ -126,5 +112,5 @@ def write_beside(directory, scene, done: FEBesideAnalytic, full_series: bool = F
     ``full_series`` every kept row."""
     output.write_scene(directory, scene)
     output.write_timeseries(directory, written(done.fe.series, scene, full_series))
-    output.write_timeseries(directory, written(done.analytic_series, done.analytic_scene,
-                                               full_series), "analytic_timeseries.csv")
+    output.write_timeseries(directory, written(done.analytic_series, scene, full_series),
+                            "analytic_timeseries.csv")

@@ -116,7 +116,6 @@ def fe_fig7(cases=FE_CASES, T: float = 0.45, tolerance: float = 1e-4) -> list:
     ``tolerance`` of the orbit's F_dv (stepped to T, 0.31 s after t_on), at its cost
     per vibrated step (the loop time of a run to T less that of a run to T - 0.1 s,
     over the steps between: a step before t_on is cheaper)."""
-    from ..fe_beside_analytic import analytic_scene
     from ..fem import run_fe
 
     scene = scene_module.load(SCENES / "longitudinal.toml")
@@ -128,7 +127,7 @@ def fe_fig7(cases=FE_CASES, T: float = 0.45, tolerance: float = 1e-4) -> list:
         periodic = base.with_values({"time.method": "periodic"})
         # started, as `vibrofric run` starts it, from the lumped model's F_dv (its own
         # orbit: a few ms, not counted)
-        _, lumped = solve(analytic_scene(periodic))
+        _, lumped = solve(periodic)
         run_fe(periodic, drive_force=lumped["F_dv"])           # compiled and cached, then timed
         shot = run_fe(periodic, drive_force=lumped["F_dv"])
         stepped = run_fe(base.with_values({"time.series_dt": dt}))

@@ -4,7 +4,8 @@ A law is a Python module (a file or an importable module) that defines
 
     PARAMETERS      {name: Parameter}: the law's keys in the scene's [contact]
                     table, with defaults, units and valid ranges, in the order
-                    compiled_parameters() hands them to ``update``
+                    compiled_parameters() hands them to ``update``; among them
+                    mu and k_t (SHARED_PARAMETERS: SHARED_RULE says why)
     STATE_SIZE      the number of floats each contact node carries
     INITIAL_STATE   a node's state before any motion (STATE_SIZE floats)
     ORDER           the order in dt at which its update converges
@@ -37,8 +38,9 @@ A law is a Python module (a file or an importable module) that defines
         energy balance (fem.energy).
 
     bounds(p, dt) -> Bounds
-        What the integrators need to know of the law at the step dt (``p``:
-        the parameter values by name, and F_N, the contact's normal load).
+        What the integrators need to know of the law at the step dt. ``p``, here
+        and below, holds the parameter values by name and F_N, the contact's
+        normal load, read either way: ``p.mu`` or ``p["mu"]`` (LawValues).
 
     steady_sliding_force(p, normal_force, v) -> float
         The friction force once sliding has settled at the constant slip rate v.
@@ -55,6 +57,8 @@ and optionally
 The loaded law (FrictionLaw) compiles ``update`` into every time loop that
 uses it (specialize.py); ``fingerprint`` names the compiled code by the law's
 source and the package's, so an edited law is never run from a stale cache.
+An exception out of a user's law function is the law's: a LawError naming the
+law file, its line and the function (law_fault), never a crash of vibrofric.
 """
 
 import functools
@@ -63,6 +67,7 @@ import importlib
 import importlib.util
 import math
 import sys
+import traceback
 import types
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -75,6 +80,13 @@ BUILT_IN = {"dahl": "vibrofric.friction_law.dahl", "lugre": "vibrofric.friction_
 PACKAGE = Path(__file__).resolve().parent.parent
 REQUIRED = ("PARAMETERS", "STATE_SIZE", "INITIAL_STATE", "ORDER", "update", "stored_energy",
             "bounds", "steady_sliding_force")
+# The parameters every law declares, whatever else it takes: every scene sets them in
+# [contact] for whichever law runs (so ``--set contact.law=...`` switches the law of any
+# scene), and the model reads its drive-force ratio and contact stiffness from them.
+SHARED_PARAMETERS = ("mu", "k_t")
+SHARED_RULE = ("every friction law declares the parameters mu, its friction coefficient "
+               "(F_d0 = mu F_N, the steady sliding force F_dv is measured against), and k_t, "
+               "the contact's tangential stiffness (N/m), which every scene sets in [contact]")
 
 
 class LawError(ValueError):
@@ -84,6 +96,28 @@ class LawError(ValueError):
     def __init__(self, message: str, detail: str = ""):
         super().__init__(message)
         self.detail = detail
+
+
+def where_in_law(err: BaseException, source) -> str:
+    """``source, line N (its text)``: the law file and its innermost line in ``err``'s
+    traceback (the file alone where no frame is the law's)."""
+    path = str(source)
+    where = path
+    for frame in traceback.extract_tb(err.__traceback__):
+        if frame.filename == path:
+            where = f"{path}, line {frame.lineno}" + (f" ({frame.line.strip()})"
+                                                      if frame.line else "")
+    return where
+
+
+def law_fault(err: BaseException, source, function: str) -> LawError:
+    """An exception raised inside a user's law function as a LawError in one line:
+    the law file and the line of it where the exception arose, the function, the
+    exception, and that the law is at fault."""
+    message = f"{type(err).__name__}: {err}" if str(err) else type(err).__name__
+    return LawError(f"{where_in_law(err, source)}: the law's {function}() raised {message}; "
+                    "an error in the law file, not in vibrofric: fix the law (the contract: "
+                    "vibrofric.friction_law.contract)")
 
 
 class ParameterError(ValueError):
@@ -176,6 +210,20 @@ def is_law_file(name) -> bool:
     return isinstance(name, str) and (name.endswith(".py") or "/" in name or "\\" in name)
 
 
+class LawValues(types.SimpleNamespace):
+    """``p``, what a law's Python functions take: its parameter values by name and F_N,
+    the contact's normal load, read as attributes (``p.mu``) or items (``p["mu"]``)."""
+
+    def __getitem__(self, name: str):
+        try:
+            return getattr(self, name)
+        except AttributeError:
+            raise KeyError(name) from None
+
+    def __contains__(self, name: str) -> bool:
+        return hasattr(self, name)
+
+
 @dataclass(frozen=True, eq=False)
 class FrictionLaw:
     """A loaded law: its module, its compiled per-node update, and its fingerprint."""
@@ -200,6 +248,22 @@ class FrictionLaw:
         return self.module.PARAMETERS
 
     @property
+    def built_in(self) -> bool:
+        return self.name in BUILT_IN
+
+    def call(self, function: str, *args):
+        """The module's ``function`` called on ``args``; an exception out of a user's law
+        is raised as the law's (law_fault), one out of a built-in law as it is (a bug)."""
+        try:
+            return getattr(self.module, function)(*args)
+        except (LawError, ParameterError):
+            raise
+        except Exception as err:
+            if self.built_in:
+                raise
+            raise law_fault(err, self.module.__file__, function) from None
+
+    @property
     def state_size(self) -> int:
         return self.module.STATE_SIZE
 
@@ -221,14 +285,18 @@ class FrictionLaw:
         if hasattr(self.module, "check"):
             try:
                 self.module.check(p)
-            except ValueError as err:
+            except ValueError as err:   # the law refuses these values (the contract)
                 name, message = err.args if len(err.args) == 2 else ("law", str(err))
                 raise ParameterError(name, message) from None
+            except Exception as err:
+                if self.built_in:
+                    raise
+                raise law_fault(err, self.module.__file__, "check") from None
 
     def compiled_parameters(self, p) -> np.ndarray:
         """The float array ``update`` takes (module.compiled_parameters, else the values in order)."""
         if hasattr(self.module, "compiled_parameters"):
-            values = self.module.compiled_parameters(p)
+            values = self.call("compiled_parameters", p)
         else:
             values = [parameter.choices.index(getattr(p, name)) if parameter.choices
                       else getattr(p, name) for name, parameter in self.parameters.items()]
@@ -241,7 +309,7 @@ class FrictionLaw:
     def deformation(self, states: np.ndarray) -> np.ndarray:
         """(n, 2) elastic deformation of each node's state (zeros if the law does not say)."""
         if hasattr(self.module, "deformation"):
-            return np.asarray(self.module.deformation(states), dtype=np.float64)
+            return np.asarray(self.call("deformation", states), dtype=np.float64)
         return np.zeros((states.shape[0], 2))
 
 
@@ -268,7 +336,8 @@ def _load_module(name: str):
             raise
         except BaseException as err:  # SystemExit too: a law's import never ends the run
             del sys.modules[module_name]
-            raise LawError(f"{path} could not be loaded: {type(err).__name__}: {err}") from None
+            raise LawError(f"{where_in_law(err, path)}: could not be loaded: "
+                           f"{type(err).__name__}: {err}") from None
         return module, path
     try:
         module = importlib.import_module(name)
@@ -286,6 +355,9 @@ def _check_contract(module, where: str) -> None:
     if not isinstance(module.PARAMETERS, dict) or not all(
             isinstance(p, Parameter) for p in module.PARAMETERS.values()):
         raise LawError(f"{where}: PARAMETERS must map names to friction_law.Parameter")
+    lacking = [name for name in SHARED_PARAMETERS if name not in module.PARAMETERS]
+    if lacking:
+        raise LawError(f"{where}: PARAMETERS lacks {' and '.join(lacking)}: {SHARED_RULE}")
     if not isinstance(module.STATE_SIZE, int) or module.STATE_SIZE < 1:
         raise LawError(f"{where}: STATE_SIZE must be an integer >= 1")
     if len(module.INITIAL_STATE) != module.STATE_SIZE:
@@ -337,16 +409,16 @@ class ContactLaw:
     F_N: float
 
     @property
-    def p(self) -> types.SimpleNamespace:
+    def p(self) -> LawValues:
         """The values by name, and F_N: what the law's Python functions take."""
-        return types.SimpleNamespace(**self.values, F_N=self.F_N)
+        return LawValues(**self.values, F_N=self.F_N)
 
     @property
     def params(self) -> np.ndarray:
         return self.law.compiled_parameters(self.p)
 
     def bounds(self, dt: float) -> Bounds:
-        return self.law.module.bounds(self.p, dt)
+        return self.law.call("bounds", self.p, dt)
 
     def steady_sliding_force(self, normal_force: float, v: float) -> float:
-        return float(self.law.module.steady_sliding_force(self.p, normal_force, v))
+        return float(self.law.call("steady_sliding_force", self.p, normal_force, v))

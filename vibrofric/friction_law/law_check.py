@@ -116,6 +116,8 @@ def probe_law(update, contact_law, dt: float, where: str) -> None:
     F_N = contact_law.F_N
     try:
         scale = contact_law.bounds(dt).sliding_length(F_N)
+    except LawError:   # raised inside the law's bounds(): named by its file and line
+        raise
     except Exception as err:
         raise LawError(f"{where}: bounds() failed: {type(err).__name__}: {err}") from None
     if not (math.isfinite(scale) and scale > 0.0):

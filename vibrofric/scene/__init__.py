@@ -20,6 +20,7 @@ The package, by idea:
     build       a Scene from nested dicts, the law's parameters checked
     validation  every value of a built scene checked
     toml_io     scene files read and written
+    reference   every key of a scene: its value, default, unit and meaning
     errors      SceneError, and the model's refusals as scene keys
 """
 

@@ -3,7 +3,8 @@ paper's longitudinal case, docs/model.md section 4), the quantities derived from
 them (docs/model.md section 1), and the ``section.key`` names that address them.
 
 docs/scenes.md's reference tables are generated from these dataclasses (each
-key's type, default and the comment beside it: docs/hooks/scene_reference.py).
+key's type, default and the comment beside it: scene/reference.py,
+docs/tools/scene_reference.py).
 """
 
 import dataclasses
@@ -20,10 +21,10 @@ from .errors import SceneError
 
 @dataclass(frozen=True)
 class Body:
-    mass: float = 0.5                      # kg
+    mass: float = 0.5                      # kg, the block's mass
     size: tuple = (0.03, 0.04, 0.053)      # m: X (sliding), Y, Z (height)
-    E: float = 209e9                       # Pa
-    nu: float = 0.3
+    E: float = 209e9                       # Pa, the block's Young's modulus
+    nu: float = 0.3                        # the block's Poisson's ratio
     density: typing.Optional[float] = None  # kg/m^3; default mass / volume
     gravity: float = 9.81                  # m/s^2, acting in -Z
 
@@ -51,6 +52,14 @@ class Contact:
     eta_y: float = 0.71                    # transverse vibration transfer coefficient (eq 30)
     parameters: dict = field(default_factory=dict)  # [contact]'s law parameters
     tables: dict = field(default_factory=dict)      # {law_key: {parameter: value}}
+
+    def __hash__(self):
+        """A contact is a value: hashed by its keys, its law's parameters and tables (dicts,
+        which the generated hash of a frozen dataclass cannot take), as == compares them."""
+        tables = tuple(sorted((name, tuple(sorted(table.items())))
+                              for name, table in self.tables.items()))
+        return hash((self.law, self.F_N, self.eta_y, tuple(sorted(self.parameters.items())),
+                     tables))
 
     @property
     def given(self) -> dict:
@@ -84,8 +93,8 @@ CONTACT_KEYS = ("law", "F_N", "eta_y")     # the model's keys in [contact]; the 
 
 @dataclass(frozen=True)
 class Drive:
-    k_d: float = 96068.0                   # N/m
-    v_d: float = 5e-4                      # m/s
+    k_d: float = 96068.0                   # N/m, the drive spring's stiffness
+    v_d: float = 5e-4                      # m/s, the drive's speed
     attach: str = "contact-plane"          # "contact-plane" | "front-face" (FE only)
     mode: str = "spring"                   # "spring" | "velocity"
 
@@ -97,16 +106,16 @@ class Drive:
 
 @dataclass(frozen=True)
 class Vibration:
-    f: float = 4000.0                      # Hz
+    f: float = 4000.0                      # Hz, the base's vibration frequency
     k_v: float = 6.0                       # v_a / v_d; 0 means no vibration
     theta_deg: float = 0.0                 # angle of the vibration axis to X
-    t_on: float = 0.14                     # s
+    t_on: float = 0.14                     # s, when the vibration starts
 
 
 @dataclass(frozen=True)
 class Time:
     T: float = 1.0                         # s, simulated time
-    dt: float = 1e-6                       # s
+    dt: float = 1e-6                       # s, the time step
     average_cycles: int = 0                # vibration cycles at the end averaged into F_dv;
                                            # 0: those nearest one drive-system period
     series_dt: float = 1e-5                # s, sampling of the written time series
@@ -169,12 +178,14 @@ class Scene:
     fem: Fem = field(default_factory=Fem)
 
     # Derived quantities (docs/model.md section 1).
-    @functools.cached_property
+    @property
     def friction(self) -> ContactLaw:
-        """The contact's friction law with its parameter values (friction_law.ContactLaw)."""
-        c = self.contact
-        law = load_law(c.law)
-        return ContactLaw(law, law.values(c.given), c.F_N)
+        """The contact's friction law with its parameter values (friction_law.ContactLaw).
+
+        Made on each call (contact_law), never kept in the scene: a Scene is a value, which
+        pickles, compares and hashes the same before and after any run, and the loaded
+        law holds its module, which does not pickle."""
+        return contact_law(self.contact)
 
     @property
     def law_bounds(self):
@@ -259,6 +270,13 @@ class Scene:
         if parameters:
             raw["contact"][law_key(law)] = {**raw["contact"].get(law_key(law), {}), **parameters}
         return from_dict(raw, self.name)
+
+
+def contact_law(contact: Contact) -> ContactLaw:
+    """The contact's law, loaded (friction_law.load_law keeps each law loaded once: a law
+    file by its content, so an edited file is loaded anew), with its parameter values."""
+    law = load_law(contact.law)
+    return ContactLaw(law, law.values(contact.given), contact.F_N)
 
 
 def split_key(key: str):

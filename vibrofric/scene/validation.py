@@ -1,7 +1,9 @@
 """Every value of a built scene checked before any work (docs/scenes.md): a physically
 invalid or unrunnable one raises SceneError naming its key."""
 
-from ..friction_law import ContactLaw, LawError, load_law
+import math
+
+from ..friction_law import LawError
 from ..meshes import level_counts
 from ..sense import nonsense
 from .errors import SceneError, law_refused
@@ -63,24 +65,50 @@ def validate(scene: Scene) -> None:
     if (refusal := nonsense(flat)) is not None:
         raise SceneError(*refusal)
     try:  # a law file's first steps at the scene's values, bounds-checked (friction_law.law_check)
-        law = load_law(scene.contact.law)   # (not scene.friction: a Scene stays picklable)
-        law.probe(ContactLaw(law, law.values(scene.contact.given), scene.contact.F_N),
-                  scene.time.dt)
+        contact_law = scene.friction
+        contact_law.law.probe(contact_law, scene.time.dt)
+        contact_law.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)   # F_d0
     except LawError as err:
         raise law_refused(err) from None
     if scene.vibrated:
         vib, time = scene.vibration, scene.time
-        if time.T <= vib.t_on:
-            raise SceneError("time.T", f"{time.T} s ends before the vibration starts "
-                                       f"(vibration.t_on = {vib.t_on} s)")
         steps_per_cycle = 1.0 / (vib.f * time.dt)
         if steps_per_cycle < 10:
             raise SceneError("time.dt", f"{time.dt} s resolves a vibration cycle of 1/f = "
                                         f"{1 / vib.f:.3g} s in {steps_per_cycle:.3g} steps; "
                                         "at least 10 are needed")
-        cycles = scene.averaged_cycles
-        window = cycles / vib.f
-        if time.T - vib.t_on < window:
-            raise SceneError("time.average_cycles",
-                             f"{cycles} cycles ({window:.3g} s) do not fit between "
-                             f"vibration.t_on = {vib.t_on} s and time.T = {time.T} s")
+        _check_averaging_window(scene)
+
+
+def shortest_T(scene) -> float:
+    """The shortest time.T that holds the averaging window after the vibration starts,
+    t_on + averaged_cycles / f (eqs 40-41), rounded up to 4 significant digits."""
+    shortest = scene.vibration.t_on + scene.averaged_cycles / scene.vibration.f
+    unit = 10.0 ** (math.floor(math.log10(shortest)) - 3)
+    return math.ceil(shortest / unit - 1e-9) * unit
+
+
+def _check_averaging_window(scene) -> None:
+    """A stepped run averages F_dv over its last averaged_cycles cycles, all after
+    vibration.t_on. Under time.method auto or periodic the steady cycle is solved for
+    directly and T ends the written time series; the stepped run through T is the
+    fallback where no stable cycle is found, so T must still hold its window. The
+    message says what T is for and the shortest T that works; it names
+    time.average_cycles where the scene sets it, time.T where it is the default."""
+    vib, time = scene.vibration, scene.time
+    cycles = scene.averaged_cycles
+    window = cycles / vib.f
+    if time.T - vib.t_on >= window * (1.0 - 1e-9):   # (a window that fits to rounding fits)
+        return
+    shortest = float(f"{shortest_T(scene):.4g}")
+    why = (f"a stepped run averages F_dv over its last {cycles} vibration cycles "
+           f"({window:.3g} s), all after vibration.t_on = {vib.t_on:g} s")
+    if time.method != "transient":
+        why = (f'under time.method = "{time.method}" the steady cycle is solved for directly '
+               "and T ends the written time series, but where no stable cycle is found the "
+               f"run is stepped through T instead, and {why}")
+    key = "time.average_cycles" if time.average_cycles else "time.T"
+    named = "" if key == "time.T" else "time.T = "
+    raise SceneError(key, f"{named}{time.T:g} s is too short: {why}; the shortest T that "
+                          f"works is {shortest:g} s (or a smaller vibration.t_on or "
+                          "time.average_cycles)")
