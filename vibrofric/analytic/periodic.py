@@ -192,13 +192,16 @@ def _update(z, step, free, scale):
 
 
 def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
-               plain_cycles: int = 2) -> Orbit:
+               plain_cycles: int = 2, judge: bool = True) -> Orbit:
     """Shoot for the periodic steady state of the scene's lumped model.
 
     ``start``: a state to begin from (a neighbouring sweep point's orbit: continuation),
     else steady sliding without vibration. ``plain_cycles`` plain cycles are run first
-    (they damp the fast components cheaply). Never raises on non-convergence: the
-    Orbit says whether it converged and whether it is stable.
+    (they damp the fast components cheaply). ``judge``: compute the Floquet multipliers
+    and judge the orbit's stability (without: the orbit at a halved step of one already
+    judged, analytic/accuracy.py; it is taken as stable where it converged). Never
+    raises on non-convergence: the Orbit says whether it converged and whether it is
+    stable.
     """
     phi = CycleMap(scene, stepper)
     begin = perf_counter()
@@ -262,7 +265,7 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
             A = None          # Broyden's matrix led nowhere: a fresh Jacobian
     converged = norm <= TOLERANCE
     multipliers = np.empty(0)
-    if converged:
+    if converged and judge:
         M = phi.jacobian(z, phi_z)   # at the orbit itself: its Floquet multipliers
         if np.all(np.isfinite(M)):
             multipliers = np.linalg.eigvals(M)

@@ -55,6 +55,8 @@ def validate(scene: Scene) -> None:
     if not 0.0 < scene.time.settle_tolerance < 1.0:
         raise SceneError("time.settle_tolerance",
                          f"must lie in (0, 1), got {scene.time.settle_tolerance}")
+    if not 0.0 < scene.time.accuracy < 1.0:
+        raise SceneError("time.accuracy", f"must lie in (0, 1), got {scene.time.accuracy}")
     try:
         level_counts(scene.fem.mesh)
     except ValueError as err:

@@ -1,0 +1,107 @@
+"""The lumped model's answer with its step error: the same solver again at dt/2 and dt/4.
+
+Every F_dv/F_d0 of the analytic steppers carries Richardson's estimate of its time
+step's error (core/step_error.py): the answer F(h) at the step h the solver used
+(time.dt, or the step nearest it that divides the base's cycle for the periodic
+method: core.shooting.cycle_steps), and the same solver's answers at h/2 and h/4:
+
+- a periodic answer: the orbits with 2n and 4n steps a cycle, shot from the orbit
+  at h (its state a cycle's start is the finer orbits' start: a few Newton
+  iterations each), their multipliers not judged again;
+- a stepped answer (time.method transient, or the fallback of auto/periodic):
+  the stepped runs through time.T at h/2 and h/4.
+
+The two-phase update is first order in dt (fe_beside_analytic.ANALYTIC_DT), the
+order assumed where it cannot be observed. With ~13 steps a cycle the answer
+depends on where the steps fall in the cycle and the halvings need not converge
+monotonically; the estimator then takes no order (step_error.richardson). Where
+the estimate exceeds time.accuracy, step_meeting names a step that divides the
+cycle and that the estimate says would meet it.
+"""
+
+import math
+
+from ..core.errors import NumericalError
+from ..core.step_error import StepError, not_estimated, richardson
+from .periodic import TOLERANCE, find_orbit
+
+FORMAL_ORDER = 1.0   # the two-phase update's order in dt
+HALVINGS = 2         # answers at dt/2 and dt/4 beside the one at dt
+
+
+def step_meeting(error: StepError, accuracy: float, f: float) -> float | None:
+    """The longest step that divides the base's cycle (1/(f n), n whole) at or below
+    the one the estimate says would bring it to ``accuracy``; None where the estimate
+    already meets it or none was made."""
+    h = error.step_for(accuracy, FORMAL_ORDER)
+    if h is None:
+        return None
+    return 1.0 / (f * math.ceil(1.0 / (f * h) - 1e-9))
+
+
+def halved(scene, dt: float):
+    """The scene at step ``dt`` (time.dt set; its other keys as they are)."""
+    return scene.with_values({"time.dt": dt})
+
+
+def periodic_error(scene, stepper: str, orbit, answer: float, F_d0: float) -> StepError:
+    """The step error of a periodic answer ``answer`` (F_dv/F_d0 of ``orbit``, shot at
+    orbit.dt with orbit.steps a cycle): orbits at 2n and 4n steps a cycle, each shot
+    from the coarser one's state."""
+    import numpy as np
+
+    answers = [(orbit.dt, answer)]
+    start = orbit.z
+    for k in range(1, HALVINGS + 1):
+        finer = find_orbit(halved(scene, orbit.dt / 2**k), stepper, start, plain_cycles=0,
+                           judge=False)
+        if not finer.converged:
+            break
+        answers.append((finer.dt, float(np.mean(finer.cycle[:, 1])) / F_d0))
+        start = finer.z
+    if len(answers) < 2:
+        return not_estimated(orbit.dt, scene.time.dt,
+                             "the orbit at dt/2 did not converge from the one at dt")
+    # the orbit's mean is converged to Newton's tolerance on forces scaled by F_c,
+    # which the slowest multiplier m amplifies by 1/(1 - |m|) on the cycle's mean
+    slowest = orbit.floquet_max_modulus if orbit.floquet.size else 0.0
+    resolution = TOLERANCE * scene.F_c / F_d0 / max(1.0 - slowest, 1e-6)
+    return richardson(answers, scene.time.dt, FORMAL_ORDER, resolution)
+
+
+def stepped_error(scene, stepper: str, answer: float, F_d0: float, settled_to: float) -> StepError:
+    """The step error of a stepped answer ``answer`` (F_dv/F_d0 at time.dt through
+    time.T): the runs at dt/2 and dt/4. ``settled_to``: the answer's drift still to
+    come (relative), below which their differences are not the step's."""
+    from .solve import STEPPERS, LOADERS
+    from .summary import cycle_average
+    from ..core.series import averaging_steps
+
+    dt = scene.time.dt
+    answers = [(dt, answer)]
+    for k in range(1, HALVINGS + 1):
+        finer = halved(scene, dt / 2**k)
+        LOADERS[stepper](finer)
+        try:
+            series = STEPPERS[stepper](finer)
+        except NumericalError:
+            break
+        answers.append((dt / 2**k, cycle_average(series.F_d, averaging_steps(finer)) / F_d0))
+    if len(answers) < 2:
+        return not_estimated(dt, dt, "the stepped run at dt/2 failed")
+    return richardson(answers, dt, FORMAL_ORDER, settled_to * abs(answer))
+
+
+def error_keys(error: StepError, scene) -> dict:
+    """The summary's keys of the step error (StepError.as_dict), the accuracy asked
+    (time.accuracy) and the step that would meet it (None where it is met)."""
+    accuracy = scene.time.accuracy
+    return {**error.as_dict(), "accuracy": accuracy,
+            "dt_for_accuracy": step_meeting(error, accuracy, scene.vibration.f)}
+
+
+def no_ratio(dt_used: float, scene) -> dict:
+    """The step error's keys where there is no F_dv/F_d0 to estimate it on (F_d0 = 0)."""
+    return error_keys(not_estimated(dt_used, scene.time.dt,
+                                    "no friction to reduce (F_d0 = 0): F_dv/F_d0 is undefined"),
+                      scene)
