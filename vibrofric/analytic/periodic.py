@@ -22,7 +22,11 @@ backtracking on the scaled residual, and plain cycles are run where Newton stall
 The eigenvalues of M, the cycle map's Jacobian, are the orbit's Floquet
 multipliers: the orbit is stable (and what a long transient run settles to) when
 all lie inside the unit circle; a multiplier on or outside it (near -1: period
-doubling) is reported and the orbit is not returned as the answer.
+doubling) is confirmed by following perturbations of the orbit over enough cycles
+to tell its growth from a decay (core/orbit_decay.py: the differences of a map
+with kinks can claim a multiplier the orbit does not have); an orbit they leave is
+reported and not returned as the answer, one they return to is the answer, its
+multiplier the decay seen.
 
 Time-domain shooting on a map of the integrator: Keller, "Numerical solution of
 two point boundary value problems" (1976); for friction-damped systems e.g.
@@ -36,6 +40,7 @@ import numpy as np
 
 from ..core.base_motion import vibration_axis
 from ..core.law_limits import divergence_force
+from ..core.orbit_decay import perturbation_decay
 from ..core.series import PLOT_CYCLES, TimeSeries
 from ..core.shooting import STABLE, Orbit, cycle_steps, instability
 from ..friction_law import law_kernel
@@ -265,25 +270,55 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
             A = None          # Broyden's matrix led nowhere: a fresh Jacobian
     converged = norm <= TOLERANCE
     multipliers = np.empty(0)
+    vectors = np.empty((free.size, 0))
     if converged and judge:
         M = phi.jacobian(z, phi_z)   # at the orbit itself: its Floquet multipliers
         if np.all(np.isfinite(M)):
-            multipliers = np.linalg.eigvals(M)
-            multipliers = multipliers[np.argsort(-np.abs(multipliers))]
+            multipliers, vectors = np.linalg.eig(M)
+            order = np.argsort(-np.abs(multipliers))
+            multipliers, vectors = multipliers[order], vectors[:, order]
         else:   # a difference step left the stepper's range: no verdict, so not the answer
             reason = "the cycle diverged near the orbit: its Floquet multipliers are unknown"
-    else:
+    elif not converged:
         reason = reason or f"Newton did not reach {TOLERANCE:g} in {MAX_NEWTON} iterations"
-    cycle = np.empty((phi.steps, 8))
-    if converged:
-        phi(z, cycle)
+    extra = {"start": "steady sliding" if start is None else "neighbour"}
     stable = (converged and not reason
               and bool(multipliers.size == 0 or np.max(np.abs(multipliers)) < STABLE))
     if converged and not stable and not reason:
         reason = instability(multipliers, STABLE)
+        decay = confirm_by_decay(phi, z, multipliers, vectors)
+        if decay.verdict == "grows":
+            reason += f"; confirmed: {decay.note}"
+        else:
+            # refuted: the orbit's multiplier is the slowest decay seen (or, where that
+            # mode was not separated from 1, its rate over the cycles followed)
+            extra["floquet_note"] = (f"the Jacobian's largest multiplier "
+                                     f"{abs(multipliers[0]):.6g} not confirmed: {decay.note}")
+            kept = np.array([decay.rate])
+            multipliers, stable, reason = kept, True, ""
+    cycle = np.empty((phi.steps, 8))
+    if converged:
+        phi(z, cycle)
     return Orbit(converged, stable, z, cycle, iterations, phi.cycles, norm, multipliers,
-                 phi.dt, phi.steps, perf_counter() - begin, reason,
-                 {"start": "steady sliding" if start is None else "neighbour"})
+                 phi.dt, phi.steps, perf_counter() - begin, reason, extra)
+
+
+def confirm_by_decay(phi: CycleMap, z: np.ndarray, multipliers: np.ndarray,
+                     vectors: np.ndarray):
+    """core.orbit_decay.perturbation_decay on the orbit ``z``: perturbations along the
+    eigenvectors of the multipliers on or beyond the unit circle (real and imaginary
+    parts; the Jacobian's, scaled free unknowns) and a random direction."""
+    free, scale = phi.free, phi.scale
+
+    def cycle(x):
+        full = z.copy()
+        full[free] = x * scale[free]
+        return phi(full)[free] / scale[free]
+
+    leading = vectors[:, np.abs(multipliers) >= STABLE]
+    directions = np.column_stack([leading.real, leading.imag])
+    return perturbation_decay(cycle, z[free] / scale[free], directions,
+                              float(np.abs(multipliers[0])))
 
 
 def load_cycle(scene, stepper: str = "coupled") -> None:

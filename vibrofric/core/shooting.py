@@ -137,6 +137,7 @@ def periodic_block(orbit, scene) -> dict:
     periodic = orbit.converged and orbit.stable
     return {"method": "periodic" if periodic else "transient",
             "converged": orbit.converged,
+            "stable": orbit.stable if orbit.converged else None,
             "newton_iterations": orbit.newton_iterations,
             "cycles_integrated": orbit.cycles_integrated,
             "residual": float(orbit.residual) if math.isfinite(orbit.residual) else None,
