@@ -287,15 +287,17 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
     if converged and not stable and not reason:
         reason = instability(multipliers, STABLE)
         decay = confirm_by_decay(phi, z, multipliers, vectors)
-        if decay.verdict == "grows":
+        claimed = float(np.abs(multipliers[0]))
+        growth_claimed = claimed >= 1.0 + (1.0 - STABLE)   # not merely on the unit circle
+        if decay.verdict == "grows" or (decay.verdict == "neutral" and not growth_claimed):
             reason += f"; confirmed: {decay.note}"
         else:
-            # refuted: the orbit's multiplier is the slowest decay seen (or, where that
-            # mode was not separated from 1, its rate over the cycles followed)
-            extra["floquet_note"] = (f"the Jacobian's largest multiplier "
-                                     f"{abs(multipliers[0]):.6g} not confirmed: {decay.note}")
-            kept = np.array([decay.rate])
-            multipliers, stable, reason = kept, True, ""
+            # a decay, or no growth where growth was claimed: the perturbations stay
+            # bounded and the claimed multiplier is not the orbit's; the multiplier
+            # reported is the slowest decay seen (~1 where it was not separated from 1)
+            extra["floquet_note"] = (f"the Jacobian's largest multiplier {claimed:.6g} not "
+                                     f"confirmed: {decay.note}")
+            multipliers, stable, reason = np.array([decay.rate]), True, ""
     cycle = np.empty((phi.steps, 8))
     if converged:
         phi(z, cycle)

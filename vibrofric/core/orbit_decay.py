@@ -37,14 +37,14 @@ SEPARATION = 10.0     # a decay or growth by this factor tells the perturbation'
 SKIP = 5              # cycles over which the fast components settle (the reference: their maximum)
 HORIZON = 4           # followed for this many times the cycles the claimed multiplier takes to
                       # grow a perturbation by SEPARATION (then by SEPARATION^4 = 1e4)
-MIN_CYCLES = 1000     # and at least this many: a slow mode's envelope (the drive spring's, an
-                      # oscillation of ~90 cycles on the case above) is its largest distance
-                      # over BLOCK cycles, a quarter of them
-BLOCKS = 4
-NEUTRAL = 1.1         # an envelope that ends within this factor above its reference over the
-                      # horizon neither decays nor grows as told: a mode not separated from 1
-                      # (a block's largest distance samples an oscillation of ~90 cycles to
-                      # ~0.1%; a multiplier of 1.0001 would exceed it in 1000 cycles)
+MIN_CYCLES = 1000     # and at least this many (ten blocks)
+BLOCK = 100           # a slow mode's envelope is its largest distance over this many cycles:
+                      # the drive spring's oscillation on the case above takes ~90
+NEUTRAL = 1.1         # an envelope that ends within this factor of its reference (above or
+                      # below) over the horizon neither decays nor grows as told: a mode not
+                      # separated from 1 (a block's largest distance samples an oscillation
+                      # of ~90 cycles to ~0.1%; a multiplier of 1.0001 would leave it in
+                      # 1000 cycles, one of 0.99999994, the case above, stays in it)
 MAX_CYCLES = 5000     # at most (the lumped model: ~0.5 s at 333 steps a cycle)
 
 
@@ -66,24 +66,24 @@ class Decay:
     note: str
 
 
-def cycles_to_tell(claimed: float) -> int:
-    """The cycles N in which a multiplier of modulus ``claimed`` (> 1) grows a
-    perturbation by SEPARATION, at least SKIP + 1."""
-    if not claimed > 1.0:
-        return SKIP + 1
-    return max(SKIP + 1, min(MAX_CYCLES, math.ceil(math.log(SEPARATION) / math.log(claimed))))
+def cycles_to_tell(claimed: float) -> int | None:
+    """The cycles N in which a multiplier of modulus ``claimed`` grows a perturbation
+    by SEPARATION (at least SKIP + 1); None where it would not in MAX_CYCLES (a
+    multiplier on the unit circle, or inside it)."""
+    if not claimed > 1.0 or claimed ** MAX_CYCLES < SEPARATION:
+        return None
+    return max(SKIP + 1, math.ceil(math.log(SEPARATION) / math.log(claimed)))
 
 
 def _follow(cycle, x: np.ndarray, y: np.ndarray, least: int):
     """Plain cycles from ``y`` and the envelope of its distance from ``x``: the largest
-    distance over the first BLOCK of the cycles after SKIP (the reference) and over the
-    last BLOCK, followed until the distance has grown by SEPARATION above the
+    distance over the first BLOCK cycles after SKIP (the reference) and over the last
+    BLOCK, followed until the distance has grown by SEPARATION above the
     reference (at once), or the envelope has fallen by SEPARATION after at least
     ``least`` cycles, or for the whole horizon (HORIZON ``least``, at least MIN_CYCLES,
     at most MAX_CYCLES) and then judged by whether the envelope fell:
     (verdict "decays" | "grows" | "failed", rate a cycle, cycles)."""
     horizon = min(MAX_CYCLES, max(HORIZON * least, MIN_CYCLES))
-    block = (horizon - SKIP) // BLOCKS
     distances = []
     for k in range(1, horizon + 1):
         y = cycle(y)
@@ -91,19 +91,20 @@ def _follow(cycle, x: np.ndarray, y: np.ndarray, least: int):
         if not math.isfinite(distance):
             return "failed", None, k
         distances.append(distance)
-        if k < SKIP + block:
+        if k < SKIP + BLOCK:
             continue
-        reference = max(distances[SKIP:SKIP + block])
+        reference = max(distances[SKIP:SKIP + BLOCK])
         if reference == 0.0:
             return "decays", 0.0, k
         if distance >= SEPARATION * reference:
             return "grows", (distance / reference) ** (1.0 / (k - SKIP)), k
-        envelope = max(distances[-block:])
-        if k >= max(least, SKIP + 2 * block) and envelope <= reference / SEPARATION:
-            return "decays", (envelope / reference) ** (1.0 / (k - SKIP - block)), k
+        envelope = max(distances[-BLOCK:])
+        if k >= max(least, SKIP + 2 * BLOCK) and envelope <= reference / SEPARATION:
+            return "decays", (envelope / reference) ** (1.0 / (k - SKIP - BLOCK)), k
     change = envelope / reference
-    rate = change ** (1.0 / (horizon - SKIP - block))
-    verdict = "decays" if change < 1.0 else "neutral" if change <= NEUTRAL else "grows"
+    rate = change ** (1.0 / (horizon - SKIP - BLOCK))
+    verdict = ("decays" if change < 1.0 / NEUTRAL else "neutral" if change <= NEUTRAL
+               else "grows")
     return verdict, rate, horizon
 
 
@@ -115,7 +116,8 @@ def perturbation_decay(cycle, x: np.ndarray, directions: np.ndarray, claimed: fl
     rng = np.random.default_rng(seed)
     columns = [d for d in np.atleast_2d(directions.T) if np.any(d != 0.0)]
     columns.append(rng.standard_normal(x.size))
-    least = cycles_to_tell(claimed)
+    growth = cycles_to_tell(claimed)
+    least = growth if growth is not None else SKIP + 1
     rates, neutral, most = [], False, 0
     for d in columns:
         d = d / np.sqrt(np.mean(d * d))
@@ -130,7 +132,8 @@ def perturbation_decay(cycle, x: np.ndarray, directions: np.ndarray, claimed: fl
         rates.append(rate)
     slowest = max(rates)
     told = (f"in which the claimed multiplier {claimed:.4g} would have grown them by "
-            f"{SEPARATION:g}^{HORIZON} or more")
+            f"{SEPARATION:g}^{HORIZON} or more" if growth is not None else
+            f"the claimed multiplier {claimed:.7f} on the unit circle")
     if neutral:
         return Decay("neutral", slowest, most,
                      f"perturbations of {AMPLITUDE:g} of the state's scales along the Jacobian's "

@@ -86,11 +86,12 @@ def validate(scene: Scene) -> None:
         raise SceneError(*refusal)
     try:  # a law file's first steps at the scene's values, bounds-checked (friction_law.law_check)
         law = load_law(scene.contact.law)   # (not scene.friction: a Scene stays picklable)
-        law.probe(ContactLaw(law, law.values(scene.contact.given), scene.contact.F_N),
-                  scene.time.dt)
+        contact_law = ContactLaw(law, law.values(scene.contact.given), scene.contact.F_N)
+        law.probe(contact_law, scene.time.dt)
+        sliding_force = contact_law.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)
     except LawError as err:
         raise law_refused(err) from None
-    if scene.F_c <= 0.0:   # mu = 0: F_d0 = 0, nothing for the vibration to reduce
+    if sliding_force <= 0.0:   # mu = 0: F_d0 = 0, nothing for the vibration to reduce
         key = "contact.mu" if "mu" in law.parameters else "contact.law"
         raise SceneError(key, f"{scene.get(key) if key == 'contact.mu' else scene.contact.law} "
                               "gives no friction (F_d0 = 0): F_dv/F_d0 is undefined")
