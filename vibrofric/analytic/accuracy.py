@@ -6,8 +6,8 @@ step's error (core/step_error.py): the answer F(h) at the step h the solver used
 method: core.shooting.cycle_steps), and the same solver's answers at h/2 and h/4:
 
 - a periodic answer: the orbits with 2n and 4n steps a cycle, shot from the orbit
-  at h (its state a cycle's start is the finer orbits' start: a few Newton
-  iterations each), their multipliers not judged again;
+  at h (its state a cycle's start is the finer orbits' start, its Jacobian their
+  Newton's first matrix: a few iterations each), their multipliers not judged again;
 - a stepped answer (time.method transient, or the fallback of auto/periodic):
   the stepped runs through time.T at h/2 and h/4.
 
@@ -54,7 +54,7 @@ def periodic_error(scene, stepper: str, orbit, answer: float, F_d0: float) -> St
     start = orbit.z
     for k in range(1, HALVINGS + 1):
         finer = find_orbit(halved(scene, orbit.dt / 2**k), stepper, start, plain_cycles=0,
-                           judge=False)
+                           judge=False, jacobian=orbit.jacobian)
         if not finer.converged:
             break
         answers.append((finer.dt, float(np.mean(finer.cycle[:, 1])) / F_d0))

@@ -197,14 +197,19 @@ def _update(z, step, free, scale):
 
 
 def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
-               plain_cycles: int = 2, judge: bool = True) -> Orbit:
+               plain_cycles: int = 2, judge: bool = True,
+               jacobian: np.ndarray | None = None) -> Orbit:
     """Shoot for the periodic steady state of the scene's lumped model.
 
     ``start``: a state to begin from (a neighbouring sweep point's orbit: continuation),
     else steady sliding without vibration. ``plain_cycles`` plain cycles are run first
     (they damp the fast components cheaply). ``judge``: compute the Floquet multipliers
     and judge the orbit's stability (without: the orbit at a halved step of one already
-    judged, analytic/accuracy.py; it is taken as stable where it converged). Never
+    judged, analytic/accuracy.py; it is taken as stable where it converged).
+    ``jacobian``: the cycle map's Jacobian (scaled free unknowns) of a neighbouring
+    problem, Newton's first matrix instead of finite differences (the orbit at dt
+    for those at dt/2 and dt/4: the map changes little; Broyden's updates and a
+    fresh Jacobian where its step fails correct it). Never
     raises on non-convergence: the Orbit says whether it converged and whether it is
     stable.
     """
@@ -221,6 +226,8 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
     iterations = 0
     reason = ""
     A = None            # the Newton matrix M - I: finite differences, then Broyden updates
+    if jacobian is not None and jacobian.shape == (free.size, free.size):
+        A = jacobian - np.eye(free.size)
     rose = False        # the last accepted step raised the residual (watchdog, below)
     watch = math.inf    # the residual before that rise: the next step must go below it
     while norm > TOLERANCE and iterations < MAX_NEWTON:
@@ -271,6 +278,7 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
     converged = norm <= TOLERANCE
     multipliers = np.empty(0)
     vectors = np.empty((free.size, 0))
+    M = None
     if converged and judge:
         M = phi.jacobian(z, phi_z)   # at the orbit itself: its Floquet multipliers
         if np.all(np.isfinite(M)):
@@ -302,7 +310,8 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
     if converged:
         phi(z, cycle)
     return Orbit(converged, stable, z, cycle, iterations, phi.cycles, norm, multipliers,
-                 phi.dt, phi.steps, perf_counter() - begin, reason, extra)
+                 phi.dt, phi.steps, perf_counter() - begin, reason, extra,
+                 M if M is not None and np.all(np.isfinite(M)) else None)
 
 
 def confirm_by_decay(phi: CycleMap, z: np.ndarray, multipliers: np.ndarray,
