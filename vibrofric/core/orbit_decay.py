@@ -70,7 +70,7 @@ def cycles_to_tell(claimed: float) -> int | None:
     """The cycles N in which a multiplier of modulus ``claimed`` grows a perturbation
     by SEPARATION (at least SKIP + 1); None where it would not in MAX_CYCLES (a
     multiplier on the unit circle, or inside it)."""
-    if not claimed > 1.0 or claimed ** MAX_CYCLES < SEPARATION:
+    if not claimed > 1.0 or MAX_CYCLES * math.log(claimed) < math.log(SEPARATION):
         return None
     return max(SKIP + 1, math.ceil(math.log(SEPARATION) / math.log(claimed)))
 
