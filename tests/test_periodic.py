@@ -139,7 +139,6 @@ def test_an_undamped_drive_is_reported_as_not_attracting(load_scene):
     assert block["method"] == "transient" and "unit circle" in block["reason"]
 
 
-@pytest.mark.slow   # ~30 s on a loaded machine: 1000 cycles from each perturbation, a 5 s run
 def test_a_claimed_period_doubling_that_perturbations_refute_is_a_stable_orbit(load_scene):
     """k_v = 1 along X with a 100 times stiffer contact: the finite-difference Jacobian
     gives a multiplier of -1.136 (Dahl's kinks), but no perturbation of the orbit grows
