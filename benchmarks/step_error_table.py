@@ -19,12 +19,11 @@ two halved orbits or runs, timed apart), on Fig 7 and over the 125 Fig 12 points
 import argparse
 import math
 import sys
-from time import perf_counter
 
 import numpy as np
 
 import vibrofric as vf
-from vibrofric.analytic.accuracy import periodic_error, stepped_error
+from vibrofric.analytic.continuation import run_in_sequence
 from vibrofric.analytic.coupled import run_coupled
 from vibrofric.analytic.periodic import find_orbit
 from vibrofric.analytic.solve import solve
@@ -51,7 +50,8 @@ CASES = [
     ("longitudinal, dt 1.9e-5 s", "longitudinal", {"time.dt": 1.9e-5}),
     ("longitudinal, dt 2.4e-5 s", "longitudinal", {"time.dt": 2.4e-5}),
     ("coupled, dt 1e-5 s", "coupled", {"time.dt": 1e-5}),
-    ("coupled, k_v 20, theta 180", "coupled", {"vibration.k_v": 20.0, "vibration.theta_deg": 180.0}),
+    ("coupled, k_v 20, theta 180", "coupled",
+     {"vibration.k_v": 20.0, "vibration.theta_deg": 180.0}),
 ]
 
 
@@ -95,49 +95,25 @@ def label(values: dict) -> str:
 
 
 def cost(quick: bool) -> list[str]:
-    """The estimate's share of the analytic cost: Fig 7, and the Fig 12 sweep in sequence
-    (each point from its neighbour's orbit, as a sweep does)."""
-    lines = []
+    """The estimate's cost beside the answer's, from the summaries' wall_time_s (the
+    answer) and error_wall_time_s (the halved orbits or runs): Fig 7 periodic (the
+    median of 20) and stepped to 1 s, and the Fig 12 points in sequence, each from its
+    neighbour's orbit as a sweep runs them."""
     scene = vf.load_scene("longitudinal")
     solve(scene)   # loaded (compiled) before any clock
-    repeats = 20
-    begin = perf_counter()
-    for _ in range(repeats):
-        orbit = find_orbit(scene)
-    answer = (perf_counter() - begin) / repeats
-    ratio_fig7 = float(np.mean(orbit.cycle[:, 1])) / scene.F_c
-    begin = perf_counter()
-    for _ in range(repeats):
-        periodic_error(scene, "coupled", orbit, ratio_fig7, scene.F_c)
-    estimate = (perf_counter() - begin) / repeats
-    lines.append(f"| Fig 7 (periodic) | {answer * 1e3:.1f} ms | {estimate * 1e3:.1f} ms | "
-                 f"{estimate / answer:.0%} |")
-    stepped = scene.with_values({"time.method": "transient"})
-    begin = perf_counter()
-    _, summary = solve(stepped)
-    total = perf_counter() - begin
-    begin = perf_counter()
-    stepped_error(stepped, "coupled", summary["F_dv_over_F_d0"], summary["F_d0"], 0.0)
-    estimate = perf_counter() - begin
-    lines.append(f"| Fig 7 (transient, T = 1 s) | {total - estimate:.2f} s | {estimate:.2f} s | "
-                 f"{estimate / (total - estimate):.0%} |")
+    runs = [solve(scene)[1] for _ in range(20)]
+    answer = float(np.median([r["wall_time_s"] for r in runs]))
+    estimate = float(np.median([r["error_wall_time_s"] for r in runs]))
+    lines = [f"| Fig 7 (periodic) | {answer * 1e3:.1f} ms | {estimate * 1e3:.1f} ms | "
+             f"{estimate / answer:.0%} |"]
+    _, stepped = solve(scene.with_values({"time.method": "transient"}))
+    lines.append(f"| Fig 7 (transient, T = 1 s) | {stepped['wall_time_s']:.2f} s | "
+                 f"{stepped['error_wall_time_s']:.2f} s | "
+                 f"{stepped['error_wall_time_s'] / stepped['wall_time_s']:.0%} |")
     name, points = grids(quick)["Fig 12"]
-    scene = vf.load_scene(name)
-    answer = estimate = 0.0
-    start = None
-    for values in points:
-        point = scene.with_values(values)
-        begin = perf_counter()
-        orbit = find_orbit(point, "coupled", start)
-        answer += perf_counter() - begin
-        if orbit.converged and orbit.stable:
-            ratio_point = float(np.mean(orbit.cycle[:, 1])) / point.F_c
-            begin = perf_counter()
-            periodic_error(point, "coupled", orbit, ratio_point, point.F_c)
-            estimate += perf_counter() - begin
-            start = orbit.z
-        else:
-            start = None
+    summaries = run_in_sequence(vf.load_scene(name), points)
+    answer = sum(s["wall_time_s"] for s in summaries)
+    estimate = sum(s["error_wall_time_s"] for s in summaries)
     lines.append(f"| Fig 12, {len(points)} points in sequence (periodic) | {answer:.2f} s | "
                  f"{estimate:.2f} s | {estimate / answer:.0%} |")
     return lines

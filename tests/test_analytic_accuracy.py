@@ -18,7 +18,7 @@ from vibrofric.answer_text import accuracy_warning, value_with_error
 from vibrofric.cli import main
 from vibrofric.core import settling
 from vibrofric.core.orbit_decay import perturbation_decay
-from vibrofric.core.series import TimeSeries, averaging_steps
+from vibrofric.core.series import averaging_steps
 
 from conftest import SCENES
 

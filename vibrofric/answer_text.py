@@ -19,8 +19,9 @@ def _error_digits(error: float) -> tuple:
     unit = 10.0 ** (exponent - digits + 1)
     rounded = math.ceil(error / unit * (1 - 1e-12)) * unit
     decimals = max(0, digits - 1 - exponent)
-    text = f"{rounded:.{digits - 1}e}" if exponent < -4 or exponent > 0 else f"{rounded:.{decimals}f}"
-    return text, decimals
+    if exponent < -4 or exponent > 0:
+        return f"{rounded:.{digits - 1}e}", decimals
+    return f"{rounded:.{decimals}f}", decimals
 
 
 def value_with_error(summary: dict) -> str:

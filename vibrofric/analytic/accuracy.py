@@ -21,9 +21,13 @@ cycle and that the estimate says would meet it.
 
 import math
 
+import numpy as np
+
 from ..core.errors import NumericalError
+from ..core.series import averaging_steps
 from ..core.step_error import StepError, not_estimated, richardson
 from .periodic import TOLERANCE, find_orbit
+from .summary import cycle_average
 
 FORMAL_ORDER = 1.0   # the two-phase update's order in dt
 HALVINGS = 2         # answers at dt/2 and dt/4 beside the one at dt
@@ -48,20 +52,23 @@ def periodic_error(scene, stepper: str, orbit, answer: float, F_d0: float) -> St
     """The step error of a periodic answer ``answer`` (F_dv/F_d0 of ``orbit``, shot at
     orbit.dt with orbit.steps a cycle): orbits at 2n and 4n steps a cycle, each shot
     from the coarser one's state."""
-    import numpy as np
-
     answers = [(orbit.dt, answer)]
     start = orbit.z
     for k in range(1, HALVINGS + 1):
-        finer = find_orbit(halved(scene, orbit.dt / 2**k), stepper, start, plain_cycles=0,
-                           judge=False, jacobian=orbit.jacobian)
+        try:
+            finer_scene = halved(scene, orbit.dt / 2**k)
+        except ValueError:      # SceneError: a step below time.dt's range
+            break
+        finer = find_orbit(finer_scene, stepper, start, plain_cycles=0, judge=False,
+                           jacobian=orbit.jacobian)
         if not finer.converged:
             break
         answers.append((finer.dt, float(np.mean(finer.cycle[:, 1])) / F_d0))
         start = finer.z
     if len(answers) < 2:
         return not_estimated(orbit.dt, scene.time.dt,
-                             "the orbit at dt/2 did not converge from the one at dt")
+                             "the orbit at dt/2 did not converge from the one at dt, "
+                             "or dt/2 is below time.dt's range")
     # the orbit's mean is converged to Newton's tolerance on forces scaled by F_c,
     # which the slowest multiplier m amplifies by 1/(1 - |m|) on the cycle's mean
     slowest = orbit.floquet_max_modulus if orbit.floquet.size else 0.0
@@ -73,22 +80,21 @@ def stepped_error(scene, stepper: str, answer: float, F_d0: float, settled_to: f
     """The step error of a stepped answer ``answer`` (F_dv/F_d0 at time.dt through
     time.T): the runs at dt/2 and dt/4. ``settled_to``: the answer's drift still to
     come (relative), below which their differences are not the step's."""
-    from .solve import STEPPERS, LOADERS
-    from .summary import cycle_average
-    from ..core.series import averaging_steps
+    from .solve import LOADERS, STEPPERS    # (solve imports this module)
 
     dt = scene.time.dt
     answers = [(dt, answer)]
     for k in range(1, HALVINGS + 1):
-        finer = halved(scene, dt / 2**k)
-        LOADERS[stepper](finer)
         try:
+            finer = halved(scene, dt / 2**k)
+            LOADERS[stepper](finer)
             series = STEPPERS[stepper](finer)
-        except NumericalError:
-            break
+        except (NumericalError, ValueError):   # the stepper failed; SceneError: a step
+            break                              # below time.dt's range
         answers.append((dt / 2**k, cycle_average(series.F_d, averaging_steps(finer)) / F_d0))
     if len(answers) < 2:
-        return not_estimated(dt, dt, "the stepped run at dt/2 failed")
+        return not_estimated(dt, dt, "the stepped run at dt/2 failed, or dt/2 is below "
+                                     "time.dt's range")
     return richardson(answers, dt, FORMAL_ORDER, settled_to * abs(answer))
 
 
