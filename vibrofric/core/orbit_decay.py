@@ -1,27 +1,37 @@
-"""Whether a periodic orbit attracts: a small perturbation's size followed over cycles.
+"""Whether a periodic orbit attracts: small perturbations' sizes followed over cycles.
 
 A finite-difference Jacobian of the cycle map is a poor judge where the map has
 kinks at the orbit (Dahl's direction turning, the stick-slip switch): the lumped
 model on the coupled scene with k_t = 6.729e9 N/m, k_v = 1, theta 0 gave a
 multiplier of -1.136 ("period doubling") for an orbit that a stepped run settles
-to (F_dv/F_d0 1.0000 after 5 s, the orbit's own mean) and from which perturbations
-decay. So a verdict that rejects an orbit is confirmed by plain cycles from
-perturbed orbits, as a stepped run would go: along the leading eigenvectors the
-Jacobian claims (their real and imaginary parts) and a reproducible random
-direction, each of RMS AMPLITUDE in the scaled unknowns. Each perturbation's RMS
-distance from the orbit is followed, its envelope the largest distance over a
-block of cycles (a slow mode oscillates: the distance at one cycle can be ten
-times below its envelope), until its envelope has fallen by SEPARATION below that
-of the first block after SKIP cycles (the fast components' transient), or the
-distance has grown by SEPARATION above it, after at least the N cycles in which the claimed
-multiplier m would have grown it by SEPARATION (|m|^N = SEPARATION), or else for
-HORIZON N cycles (at least MIN_CYCLES, at most MAX_CYCLES), in which the claimed
-multiplier would have grown it by SEPARATION^HORIZON: a perturbation whose envelope
-has fallen instead refutes it. A mode slower than that (a multiplier of 0.9999975 on
-the case above, the drive spring's, barely damped) may still be decaying; its
-rate is reported as the orbit's multiplier: (final / reference)^(1 / cycles), the
-slowest over the perturbations. (The FE model's check, fem/integrators/
-periodic.decay_rate, follows one random perturbation over a fixed 40 cycles.)
+to (F_dv/F_d0 1.0000 after 5 s, the orbit's own mean) and that no perturbation
+leaves. So a verdict that rejects an orbit is checked by plain cycles from
+perturbed orbits, as a stepped run would go: along the eigenvectors of the
+multipliers the Jacobian claims (their real and imaginary parts) and along a
+reproducible random direction, each of RMS AMPLITUDE in the scaled unknowns.
+
+Each perturbation's distance from the orbit is followed by its envelope, the
+largest distance over BLOCK cycles (a slow mode oscillates: at one cycle the
+distance can be ten times below its envelope), against the envelope of the first
+BLOCK cycles after SKIP (the fast components' transient, the reference):
+
+- it grows where the distance exceeds SEPARATION times the reference;
+- it decays where the envelope falls below the reference over SEPARATION, after
+  at least the N cycles in which the claimed multiplier m would have grown it by
+  SEPARATION (|m|^N = SEPARATION: a decay then refutes the claim) and 2 BLOCKs;
+- otherwise it is followed for HORIZON N cycles (at least MIN_CYCLES, at most
+  MAX_CYCLES), in which m would have grown it SEPARATION^HORIZON-fold, and judged
+  by where its envelope ends: below the reference over NEUTRAL decays, above
+  NEUTRAL times it grows, between is neutral: a mode not separated from 1 (the
+  drive spring's on the case above, 0.99999994 a cycle: barely damped).
+
+The verdict: "grows" if any perturbation grows, else "neutral" if any is neutral,
+else "decays"; its rate the slowest over the perturbations, (envelope /
+reference)^(1 / cycles between them). What follows from it is the caller's
+(analytic/periodic.find_orbit: a claimed growth refuted by a decaying or neutral
+verdict, a claim of a multiplier on the unit circle only by a decay). (The FE
+model's check, fem/integrators/periodic.decay_rate, follows one random
+perturbation over a fixed 40 cycles.)
 """
 
 import math
