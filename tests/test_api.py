@@ -81,7 +81,7 @@ def test_analytic_equals_the_command(tmp_path, capsys):
                  "--out", str(out_cli), "--json"]) == 0
     document = json.loads(capsys.readouterr().out)
     result = vf.run_analytic(vf.load_scene("longitudinal", **SHORT), out=out_api)
-    moving = {"wall_time_s", "out"}
+    moving = {"wall_time_s", "error_wall_time_s", "out"}
     assert {k: v for k, v in result.summary.items() if k not in moving} == \
            {k: v for k, v in document.items() if k not in moving}
     assert result.F_dv_over_F_d0 == document["F_dv_over_F_d0"]

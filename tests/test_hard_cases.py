@@ -59,14 +59,15 @@ def test_ultrasonic_base_converges_in_dt(load_scene):
     assert 0.2 < ratios[1] < 0.3
 
 
-def test_frictionless_contact_reports_no_ratio_and_no_nan(tmp_path, capsys):
+def test_frictionless_contact_is_refused_naming_mu(tmp_path, capsys):
+    """mu = 0: F_d0 = 0, so F_dv/F_d0 is undefined: refused before any work, naming the key."""
     out = tmp_path / "mu0"
     assert main(["analytic", "scenes/longitudinal.toml", "--set", "contact.mu=0", "--set", "time.T=0.3",
-                 "--out", str(out), "--json"]) == 0
-    document = json.loads(capsys.readouterr().out)
-    assert document["F_dv_over_F_d0"] is None and document["F_d0"] == 0.0
-    assert document["breakaway_time_s"] is None and math.isfinite(document["F_dv"])
-    json.loads((out / "summary.json").read_text(), parse_constant=pytest.fail)  # no NaN, no Infinity
+                 "--out", str(out), "--json"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and not out.exists()
+    assert captured.err.startswith("vibrofric: invalid scene: contact.mu:") and "F_d0 = 0" in captured.err
+    assert len(captured.err.strip().splitlines()) == 1
 
 
 @pytest.fixture(scope="module")

@@ -6,6 +6,7 @@ the paper's scenes to a steady cycle are marked slow. The reference for the
 integrators is the explicit central-difference baseline at dt = 1e-6 s.
 """
 
+import dataclasses
 import math
 import re
 from pathlib import Path
@@ -601,8 +602,12 @@ def test_without_friction_the_block_swings_on_the_drive_spring():
     the drive spring: x = v_d t - (v_d / w_d) sin(w_d t), F_d = k_d (v_d t - x) =
     (k_d v_d / w_d) sin(w_d t), w_d = sqrt(k_d / m), for a rigid block, which the
     FE block follows within 1% of the amplitude (measured 0.5%)."""
-    scene = load(LONGITUDINAL, "time.T=0.3", "fem.output_every=0", "contact.mu=0.0",
+    scene = load(LONGITUDINAL, "time.T=0.3", "fem.output_every=0",
                  'fem.integrator="reduced"', "time.dt=1e-5")
+    # mu = 0 set past the scene's check, which refuses it (F_dv/F_d0 undefined): the
+    # model itself is what is tested here
+    contact = dataclasses.replace(scene.contact, parameters={**scene.contact.parameters, "mu": 0.0})
+    scene = dataclasses.replace(scene, contact=contact)
     fe = run_fe(scene)
     assert np.all(fe.series.F_x == 0.0) and np.all(fe.series.F_y == 0.0)
     k_d, v_d, m = scene.drive.k_d, scene.drive.v_d, scene.body.mass

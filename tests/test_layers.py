@@ -16,7 +16,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "vibrofric"
 # Bottom to top. A floor's packages and modules never import each other (the
 # analytic and the FE models stay independent), only what lies below.
 FLOORS = (
-    {"disk_cache", "library_logs", "parallel", "sense", "picture"},   # helpers that import no vibrofric module
+    {"disk_cache", "library_logs", "parallel", "sense", "picture", "answer_text"},  # helpers that import no vibrofric module
     {"friction_law", "meshes"},
     {"core"},
     {"analytic", "fem", "scene"},                     # the two models; the scene file

@@ -22,11 +22,11 @@ EVERY_STEP = ["--set", "vibration.t_on=0.01", "--set", "time.T=0.03",
 
 
 def analytic(tmp_path, capsys, name: str, *args) -> dict:
-    """``vibrofric analytic`` into tmp_path/name; its JSON, less wall_time_s and out."""
+    """``vibrofric analytic`` into tmp_path/name; its JSON, less its times and out."""
     out = tmp_path / name
     assert main(["analytic", *args, "--out", str(out), "--json"]) == 0
     document = json.loads(capsys.readouterr().out)
-    del document["wall_time_s"], document["out"]
+    del document["wall_time_s"], document["error_wall_time_s"], document["out"]
     return document
 
 

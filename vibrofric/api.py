@@ -158,7 +158,8 @@ class Result:
     """One run's results.
 
     summary     the run's summary.json block (F_dv, F_d0, F_dv_over_F_d0,
-                window_drift, settled, wall_time_s, ...; an FE run adds its
+                error_estimate, dt_used, window_drift, settled, wall_time_s, ...;
+                an FE run adds its
                 integrator, DOFs, steps, normal_force)
     timeseries  the kept rows of the time series (t, F_d, F_x, F_y, x, y,
                 x_b, y_b, and an FE run's summed normal force F_n), one row a
@@ -187,14 +188,42 @@ class Result:
 
     @property
     def settled(self) -> bool:
-        """Whether the drive-force mean moved by at most time.settle_tolerance
-        between the last two averaging windows."""
+        """Whether the drive-force mean has settled: a periodic answer always; a stepped
+        one where the drift still to come, from the decay of successive windows' means,
+        is at most time.settle_tolerance (summary's drift_remaining; core/settling.py)."""
         return self.summary["settled"]
+
+    @property
+    def error_estimate(self) -> float | None:
+        """The bound on F_dv/F_d0's time-step error (absolute), from the same solver at
+        dt/2 and dt/4 (Richardson: core/step_error.py); None where none was made
+        (``step_error.note`` says why)."""
+        return self.summary.get("error_estimate")
+
+    @property
+    def dt_used(self) -> float | None:
+        """The step the answer was computed at: time.dt, or for a periodic answer the
+        step nearest it that divides the base's cycle."""
+        return self.summary.get("dt_used")
+
+    @property
+    def step_error(self):
+        """The step error as a core.step_error.StepError (estimate, order, dt_used,
+        dt_asked, note); None where the summary has none."""
+        from .core.step_error import StepError
+
+        s = self.summary
+        if "dt_used" not in s:
+            return None
+        return StepError(s["error_estimate"], s.get("error_order"), s["dt_used"],
+                         s.get("dt_asked", s["dt_used"]), (), s.get("error_note", ""))
 
     def __repr__(self) -> str:
         ratio = self.F_dv_over_F_d0
         shown = "None" if ratio is None else f"{ratio:.5g}"
-        return (f"Result(F_dv_over_F_d0={shown}, settled={self.settled}, "
+        error = self.error_estimate
+        plus = f" ± {error:.1g}" if error is not None and ratio is not None else ""
+        return (f"Result(F_dv_over_F_d0={shown}{plus}, settled={self.settled}, "
                 f"rows={len(self.timeseries)}, out={self.out!r})")
 
 

@@ -35,6 +35,8 @@ FE_BYTES_PER_DOF = 4_000
 CSV_BYTES_PER_VALUE = 25           # a double's repr and its comma
 VTK_BYTES_PER_NODE = 600           # 7 fields, 22 values a node, base64 + headers
 STEP_SECONDS = 1e-7                # the analytic stepper: 30-70 ns a step
+ESTIMATE_RUNS = 1 + 2 + 4          # a stepped analytic answer and its runs at dt/2 and dt/4, in
+                                   # steps of dt (the step error: analytic/accuracy.py)
 FE_STEP_SECONDS_PER_DOF = 6e-8     # explicit, coarse mesh: ~40 us for 720 DOFs
 FRICTION_UPDATE_SECONDS = 6e-8     # one law update of one node (fem.integrators.step_cost.COST["friction"])
 POINT_BYTES = 16_384               # a sweep point without series: scene.toml, summary.json, checks.json
@@ -105,7 +107,7 @@ def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) ->
     memory = 3 * plan.rows * columns * 8
     rows_written = plan.rows if full_series else written_rows(scene)
     disk = series_files * rows_written * columns * CSV_BYTES_PER_VALUE if series else POINT_BYTES
-    seconds = scene.steps * STEP_SECONDS
+    seconds = scene.steps * STEP_SECONDS * (1 if fe else ESTIMATE_RUNS)
     dofs = 0
     if fe:
         dofs = fe_dofs(scene)

@@ -31,6 +31,7 @@ from pathlib import Path  # noqa: E402
 # module (and with it numba), numpy and matplotlib are imported by the commands
 # themselves: ``analytic`` starts its plot process before (plot_worker).
 from . import __version__, output  # noqa: E402
+from .answer_text import accuracy_warning, answer_with_error, value_with_error  # noqa: E402
 from .core.errors import NumericalError, Refusal  # noqa: E402
 from .output import OutputError  # noqa: E402
 from .library_logs import quiet_libraries  # noqa: E402
@@ -177,6 +178,13 @@ def _warn_unsettled(summary: dict, label: str = "") -> None:
         print(f"vibrofric: {warning}", file=sys.stderr)
 
 
+def _warn_inaccurate(summary: dict, label: str = "") -> None:
+    """The warning on stderr where the answer's step error exceeds time.accuracy."""
+    warning = accuracy_warning(summary, label)
+    if warning:
+        print(f"vibrofric: {warning}", file=sys.stderr)
+
+
 def _target(args, command: str):
     """(directory, claimed): --out once checked (output.check_target) and locked
     for the rest of the command (output.locked: a second writer is refused at
@@ -227,9 +235,10 @@ def cmd_analytic(args) -> None:
                 output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
                 output.write_timeseries(stage, series)
     _warn_unsettled(summary)
+    _warn_inaccurate(summary)
     how = _periodic_note(summary)
     _emit(args, {**summary, "out": str(target)},
-          f"F_dv/F_d0 = {_number(summary['F_dv_over_F_d0'])} (F_dv = {summary['F_dv']:.4f} N, "
+          f"{answer_with_error(summary)} (F_dv = {summary['F_dv']:.4f} N, "
           f"F_d0 = {summary['F_d0']:.4f} N) in {summary['wall_time_s']:.3f} s{how}; "
           f"results in {target}")
 
@@ -311,13 +320,15 @@ def cmd_run(args) -> None:
     fe, analytic = document["fe"], document["analytic"]
     _warn_unsettled(fe, "FE")
     _warn_unsettled(analytic, "analytic")
+    _periodic_note(analytic, "analytic ")    # its warning where the analytic model stepped
+    _warn_inaccurate(analytic, "analytic")
     settled = (f", settled at {fe['stop_time_s']:g} s, {fe['saving']:.0%} of the steps saved"
                if fe["stopped_early"] else "")
     periodic = _periodic_note(fe, "FE ")
     settled += f"; {periodic.strip()[1:-1]}" if periodic else ""
     _emit(args, document,
           f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['integrator']}, {fe['dofs']} DOFs, "
-          f"{fe['wall_time_s']:.1f} s{settled}), analytic {_number(analytic['F_dv_over_F_d0'])}; "
+          f"{fe['wall_time_s']:.1f} s{settled}), analytic {value_with_error(analytic)}; "
           f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}"
           + (f"; {fe['normal_force_rule_note']}" if fe.get("normal_force_rule_note") else ""))
 

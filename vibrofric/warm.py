@@ -55,7 +55,7 @@ def warm(fe: bool = True) -> None:
                 {"time.method": method})
             for stepper, laws in STEPPERS.items():
                 if law in laws:
-                    solve(scene, stepper)
+                    solve(scene, stepper, estimate=False)   # the same loops: compiled
             if fe:
                 from .fem import run_fe
 

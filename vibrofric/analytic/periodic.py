@@ -22,7 +22,11 @@ backtracking on the scaled residual, and plain cycles are run where Newton stall
 The eigenvalues of M, the cycle map's Jacobian, are the orbit's Floquet
 multipliers: the orbit is stable (and what a long transient run settles to) when
 all lie inside the unit circle; a multiplier on or outside it (near -1: period
-doubling) is reported and the orbit is not returned as the answer.
+doubling) is confirmed by following perturbations of the orbit over enough cycles
+to tell its growth from a decay (core/orbit_decay.py: the differences of a map
+with kinks can claim a multiplier the orbit does not have); an orbit they leave is
+reported and not returned as the answer, one they return to is the answer, its
+multiplier the decay seen.
 
 Time-domain shooting on a map of the integrator: Keller, "Numerical solution of
 two point boundary value problems" (1976); for friction-damped systems e.g.
@@ -36,6 +40,7 @@ import numpy as np
 
 from ..core.base_motion import vibration_axis
 from ..core.law_limits import divergence_force
+from ..core.orbit_decay import perturbation_decay
 from ..core.series import PLOT_CYCLES, TimeSeries
 from ..core.shooting import STABLE, Orbit, cycle_steps, instability
 from ..friction_law import law_kernel
@@ -192,13 +197,21 @@ def _update(z, step, free, scale):
 
 
 def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
-               plain_cycles: int = 2) -> Orbit:
+               plain_cycles: int = 2, judge: bool = True,
+               jacobian: np.ndarray | None = None) -> Orbit:
     """Shoot for the periodic steady state of the scene's lumped model.
 
     ``start``: a state to begin from (a neighbouring sweep point's orbit: continuation),
     else steady sliding without vibration. ``plain_cycles`` plain cycles are run first
-    (they damp the fast components cheaply). Never raises on non-convergence: the
-    Orbit says whether it converged and whether it is stable.
+    (they damp the fast components cheaply). ``judge``: compute the Floquet multipliers
+    and judge the orbit's stability (without: the orbit at a halved step of one already
+    judged, analytic/accuracy.py; it is taken as stable where it converged).
+    ``jacobian``: the cycle map's Jacobian (scaled free unknowns) of a neighbouring
+    problem, Newton's first matrix instead of finite differences (the orbit at dt
+    for those at dt/2 and dt/4: the map changes little; Broyden's updates and a
+    fresh Jacobian where its step fails correct it). Never
+    raises on non-convergence: the Orbit says whether it converged and whether it is
+    stable.
     """
     phi = CycleMap(scene, stepper)
     begin = perf_counter()
@@ -213,6 +226,8 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
     iterations = 0
     reason = ""
     A = None            # the Newton matrix M - I: finite differences, then Broyden updates
+    if jacobian is not None and jacobian.shape == (free.size, free.size):
+        A = jacobian - np.eye(free.size)
     rose = False        # the last accepted step raised the residual (watchdog, below)
     watch = math.inf    # the residual before that rise: the next step must go below it
     while norm > TOLERANCE and iterations < MAX_NEWTON:
@@ -262,25 +277,59 @@ def find_orbit(scene, stepper: str = "coupled", start: np.ndarray | None = None,
             A = None          # Broyden's matrix led nowhere: a fresh Jacobian
     converged = norm <= TOLERANCE
     multipliers = np.empty(0)
-    if converged:
+    vectors = np.empty((free.size, 0))
+    M = None
+    if converged and judge:
         M = phi.jacobian(z, phi_z)   # at the orbit itself: its Floquet multipliers
         if np.all(np.isfinite(M)):
-            multipliers = np.linalg.eigvals(M)
-            multipliers = multipliers[np.argsort(-np.abs(multipliers))]
+            multipliers, vectors = np.linalg.eig(M)
+            order = np.argsort(-np.abs(multipliers))
+            multipliers, vectors = multipliers[order], vectors[:, order]
         else:   # a difference step left the stepper's range: no verdict, so not the answer
             reason = "the cycle diverged near the orbit: its Floquet multipliers are unknown"
-    else:
+    elif not converged:
         reason = reason or f"Newton did not reach {TOLERANCE:g} in {MAX_NEWTON} iterations"
-    cycle = np.empty((phi.steps, 8))
-    if converged:
-        phi(z, cycle)
+    extra = {"start": "steady sliding" if start is None else "neighbour"}
     stable = (converged and not reason
               and bool(multipliers.size == 0 or np.max(np.abs(multipliers)) < STABLE))
     if converged and not stable and not reason:
         reason = instability(multipliers, STABLE)
+        decay = confirm_by_decay(phi, z, multipliers, vectors)
+        claimed = float(np.abs(multipliers[0]))
+        growth_claimed = claimed >= 1.0 + (1.0 - STABLE)   # not merely on the unit circle
+        if decay.verdict == "grows" or (decay.verdict == "neutral" and not growth_claimed):
+            reason += f"; confirmed: {decay.note}"
+        else:
+            # a decay, or no growth where growth was claimed: the perturbations stay
+            # bounded and the claimed multiplier is not the orbit's; the multiplier
+            # reported is the slowest decay seen (~1 where it was not separated from 1)
+            extra["floquet_note"] = (f"the Jacobian's largest multiplier {claimed:.6g} not "
+                                     f"confirmed: {decay.note}")
+            multipliers, stable, reason = np.array([decay.rate]), True, ""
+    cycle = np.empty((phi.steps, 8))
+    if converged:
+        phi(z, cycle)
     return Orbit(converged, stable, z, cycle, iterations, phi.cycles, norm, multipliers,
-                 phi.dt, phi.steps, perf_counter() - begin, reason,
-                 {"start": "steady sliding" if start is None else "neighbour"})
+                 phi.dt, phi.steps, perf_counter() - begin, reason, extra,
+                 M if M is not None and np.all(np.isfinite(M)) else None)
+
+
+def confirm_by_decay(phi: CycleMap, z: np.ndarray, multipliers: np.ndarray,
+                     vectors: np.ndarray):
+    """core.orbit_decay.perturbation_decay on the orbit ``z``: perturbations along the
+    eigenvectors of the multipliers on or beyond the unit circle (real and imaginary
+    parts; the Jacobian's, scaled free unknowns) and a random direction."""
+    free, scale = phi.free, phi.scale
+
+    def cycle(x):
+        full = z.copy()
+        full[free] = x * scale[free]
+        return phi(full)[free] / scale[free]
+
+    leading = vectors[:, np.abs(multipliers) >= STABLE]
+    directions = np.column_stack([leading.real, leading.imag])
+    return perturbation_decay(cycle, z[free] / scale[free], directions,
+                              float(np.abs(multipliers[0])))
 
 
 def load_cycle(scene, stepper: str = "coupled") -> None:

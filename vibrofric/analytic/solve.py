@@ -3,6 +3,8 @@
 
 from time import perf_counter
 
+from ..core.step_error import not_estimated
+from .accuracy import error_keys, no_ratio, periodic_error, stepped_error
 from .coupled import load_coupled, run_coupled
 from .longitudinal import load_longitudinal, run_longitudinal
 from .periodic import find_orbit, load_cycle, steady_series
@@ -12,14 +14,14 @@ STEPPERS = {"coupled": run_coupled, "longitudinal": run_longitudinal}
 LOADERS = {"coupled": load_coupled, "longitudinal": load_longitudinal}
 
 
-def solve(scene, stepper: str = "coupled", start=None):
+def solve(scene, stepper: str = "coupled", start=None, estimate: bool = True):
     """Integrate ``scene`` with the named stepper; return (TimeSeries, summary dict)
     (see solve_with_orbit)."""
-    series, summary, _ = solve_with_orbit(scene, stepper, start)
+    series, summary, _ = solve_with_orbit(scene, stepper, start, estimate)
     return series, summary
 
 
-def solve_with_orbit(scene, stepper: str = "coupled", start=None):
+def solve_with_orbit(scene, stepper: str = "coupled", start=None, estimate: bool = True):
     """Integrate ``scene`` with the named stepper; return (TimeSeries, summary dict,
     the periodic orbit's state or None).
 
@@ -30,17 +32,49 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None):
     summary's "periodic" block says so. The summary's wall_time_s is the solving
     alone: the compiled loops are loaded from numba's cache (or compiled) before
     the clock starts, since that costs a new process the same whatever the scene.
+
+    The summary carries the answer's step error (analytic/accuracy.py: the same
+    solver at dt/2 and dt/4; error_estimate, dt_used, dt_asked, ...) and the time
+    that took, error_wall_time_s (wall_time_s stays the answer's own). Without
+    ``estimate`` (a measurement of the answer alone: the bench, a reference run)
+    the keys are there and say that none was made.
     """
     orbit = None
     if scene.time.method != "transient" and scene.vibrated:
         load_cycle(scene, stepper)
         orbit = find_orbit(scene, stepper, start)
         if orbit.converged and orbit.stable:
-            return steady_series(orbit, scene), summarize_orbit(orbit, scene), orbit.z
+            summary = summarize_orbit(orbit, scene)
+
+            def periodic():
+                return periodic_error(scene, stepper, orbit, summary["F_dv_over_F_d0"],
+                                      summary["F_d0"])
+
+            summary.update(_error(summary, scene, orbit.dt, periodic, estimate))
+            return steady_series(orbit, scene), summary, orbit.z
     LOADERS[stepper](scene)
     start_time = perf_counter()
     series = STEPPERS[stepper](scene)
     summary = summarize(series, scene, perf_counter() - start_time)
+
+    def stepped():
+        return stepped_error(scene, stepper, summary["F_dv_over_F_d0"], summary["F_d0"],
+                             summary["drift_remaining"] or 0.0)
+
+    summary.update(_error(summary, scene, scene.time.dt, stepped, estimate))
     if scene.time.method != "transient":
         summary["periodic"] = periodic_block(orbit, scene)
     return series, summary, None
+
+
+def _error(summary: dict, scene, dt_used: float, estimator, estimate: bool) -> dict:
+    """The summary's step-error keys: ``estimator()``'s StepError where there is a
+    ratio and an estimate is asked for, else why not; and the time it took."""
+    if summary["F_dv_over_F_d0"] is None:
+        return {**no_ratio(dt_used, scene), "error_wall_time_s": 0.0}
+    if not estimate:
+        return {**error_keys(not_estimated(dt_used, scene.time.dt, "not asked for"), scene),
+                "error_wall_time_s": 0.0}
+    start_time = perf_counter()
+    keys = error_keys(estimator(), scene)
+    return {**keys, "error_wall_time_s": perf_counter() - start_time}

@@ -5,6 +5,7 @@ import math
 import numpy as np
 
 from ..core.errors import NumericalError
+from ..core import settling
 from ..core.series import TimeSeries, averaging_steps
 from ..core.shooting import periodic_block
 
@@ -51,7 +52,8 @@ def summarize(series: TimeSeries, scene, wall_time_s: float) -> dict:
     """The JSON keys of a summary (docs/command-line.md) for one run, and whether it settled.
 
     F_dv/F_d0 is None when there is no friction to reduce (F_d0 = 0, mu = 0).
-    ``settled`` is True when window_drift() is at most time.settle_tolerance:
+    ``settled`` is True where the drift still to come, extrapolated from the decay of
+    successive windows' means (core/settling.py), is at most time.settle_tolerance:
     the averaged drive force no longer depends on when the run stopped.
     """
     window = averaging_steps(scene)
@@ -59,8 +61,10 @@ def summarize(series: TimeSeries, scene, wall_time_s: float) -> dict:
     if not math.isfinite(F_dv):
         raise NumericalError(f"the cycle-averaged drive force is {F_dv}")
     F_d0 = steady_drive_force(scene)
-    drift = window_drift(series, window, scene.time.dt)
     tolerance = scene.time.settle_tolerance
+    since = scene.vibration.t_on if scene.vibrated else 0.0
+    judged = settling.judge(series.t, series.F_d, window, scene.time.dt, since,
+                            window_drift(series, window, scene.time.dt), tolerance)
     return {
         "F_dv_over_F_d0": F_dv / F_d0 if F_d0 > 0.0 else None,
         "F_dv": F_dv,
@@ -68,8 +72,7 @@ def summarize(series: TimeSeries, scene, wall_time_s: float) -> dict:
         "breakaway_time_s": breakaway_time(series, scene.F_c),
         "steps": scene.steps,
         "wall_time_s": wall_time_s,
-        "window_drift": drift,
-        "settled": drift is not None and drift <= tolerance,
+        **judged.as_dict(),
         "settle_tolerance": tolerance,
     }
 
@@ -80,13 +83,18 @@ def unsettled_warning(summary: dict, label: str = "") -> str | None:
         return None
     what = f"{label} " if label else ""
     drift = summary["window_drift"]
+    remaining = summary.get("drift_remaining")
     if summary.get("normal_force") == "transient":     # an FE run's (fem/outputs/normal_swing.py)
         moved = ("the block's free vibration on its contact was still decaying as the "
                  "averaging window began (the summed normal force)")
     elif drift is None:
         moved = "the run holds fewer than two averaging windows after the vibration starts"
+    elif remaining is not None:
+        moved = (f"its mean moved by {drift:.2%} between the last two averaging windows and "
+                 f"may still move by {remaining:.2%} ({summary['settle_note']})")
     else:
-        moved = f"its mean moved by {drift:.2%} between the last two averaging windows"
+        moved = (f"its mean moved by {drift:.2%} between the last two averaging windows; "
+                 f"how much more it may move is not known ({summary['settle_note']})")
     why = ""
     if "breakaway_time_s" in summary and summary["breakaway_time_s"] is None:
         # a drive spring still loading a body held by friction (a huge F_N, a tiny v_d)
@@ -113,6 +121,9 @@ def summarize_orbit(orbit, scene) -> dict:
         "wall_time_s": orbit.solver_time_s,
         "window_drift": 0.0,
         "settled": True,
+        "settle_decay_rate": None,
+        "drift_remaining": 0.0,
+        "settle_note": "the periodic orbit: the state a stepped run settles to",
         "settle_tolerance": scene.time.settle_tolerance,
         "periodic": periodic_block(orbit, scene),
     }

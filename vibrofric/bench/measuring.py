@@ -30,7 +30,8 @@ def measure_analytic(scene, update: str, dt: float, repeats: int = 3) -> Measure
     from ..analytic.solve import solve
 
     case = scene.with_values({"contact.update": update, "time.dt": dt})
-    best = min((solve(case)[1] for _ in range(repeats)), key=lambda s: s["wall_time_s"])
+    best = min((solve(case, estimate=False)[1] for _ in range(repeats)),
+               key=lambda s: s["wall_time_s"])
     return Measurement(f"analytic {update}", f"dt = {dt:g}", 0, best["wall_time_s"],
                        best["F_dv_over_F_d0"])
 
@@ -52,9 +53,11 @@ def measure_law(scene, plan: Plan, label: str, law: str, parameters: dict) -> La
     from ..analytic.solve import solve
 
     case = scene.with_law(law, parameters)
-    reference = solve(case.with_values({"time.dt": plan.analytic_reference_dt}))[1]["F_dv_over_F_d0"]
+    reference = solve(case.with_values({"time.dt": plan.analytic_reference_dt}),
+                      estimate=False)[1]["F_dv_over_F_d0"]
     stepped = case.with_values({"time.dt": plan.law_dt})
-    best = min((solve(stepped)[1] for _ in range(3)), key=lambda s: s["wall_time_s"])
+    best = min((solve(stepped, estimate=False)[1] for _ in range(3)),
+               key=lambda s: s["wall_time_s"])
     analytic = Measurement(f"analytic {label}", f"dt = {plan.law_dt:g}", 0, best["wall_time_s"],
                            best["F_dv_over_F_d0"])
     analytic.error = relative(analytic.ratio, reference)

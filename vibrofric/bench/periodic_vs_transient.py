@@ -33,7 +33,7 @@ def settled_steps(scene, answer: float, tolerance: float, T: float = 1.5) -> int
     ``tolerance`` of ``answer`` and stays there, stepped to ``T`` with every row kept."""
     long = scene.with_values({"time.T": T, "time.method": "transient",
                               "time.series_dt": scene.time.dt})
-    series, _ = solve(long)
+    series, _ = solve(long, estimate=False)
     window = averaging_steps(long)
     means = np.convolve(series.F_d, np.ones(window) / window, mode="valid")
     off = np.flatnonzero(np.abs(means / answer - 1.0) > tolerance)
@@ -44,9 +44,9 @@ def fig7(tolerances=(1e-4, 1e-6)) -> dict:
     """The Fig 7 scene: the periodic run's steps and solver time beside the transient's."""
     scene = scene_module.load(SCENES / "longitudinal.toml")
     periodic = scene.with_values({"time.method": "periodic"})
-    solve(periodic)                                          # compiled, then timed
-    _, answer = solve(periodic)
-    _, transient = solve(scene)
+    solve(periodic, estimate=False)                          # compiled, then timed
+    _, answer = solve(periodic, estimate=False)
+    _, transient = solve(scene, estimate=False)
     t_on_steps = int(round(scene.vibration.t_on / scene.time.dt))
     settled = {tol: settled_steps(scene, answer["F_dv"], tol) for tol in tolerances}
     return {"periodic_steps": answer["steps"], "periodic_solver_s": answer["wall_time_s"],
@@ -85,8 +85,8 @@ def steps_per_cycle(dts=(1e-6, 5e-7, 2.5e-7)) -> list:
     rows = []
     for dt in dts:
         point = scene.with_values({"time.dt": dt})
-        solve(point)
-        _, summary = solve(point)
+        solve(point, estimate=False)
+        _, summary = solve(point, estimate=False)
         rows.append((summary["periodic"]["steps_per_cycle"],
                      summary["periodic"]["cycles_integrated"], summary["wall_time_s"]))
     return rows

@@ -99,7 +99,10 @@ class Orbit:
     solver_time_s        the shooting's wall time (compiled code loaded before)
     reason               why it is not the answer ("" where it is)
     extra                {"start": "steady sliding" or "neighbour" (a sweep's continuation),
-                         "floquet_note": how the FE stability was judged, where not by Arnoldi}
+                         "floquet_note": how the stability was judged, where not by the
+                         multipliers alone}
+    jacobian             dPhi/dz at the orbit in the solver's scaled unknowns, where it was
+                         formed (the lumped model's); a finer step's Newton starts from it
     """
 
     converged: bool
@@ -115,6 +118,7 @@ class Orbit:
     solver_time_s: float = 0.0
     reason: str = ""
     extra: dict = field(default_factory=dict)
+    jacobian: np.ndarray | None = None
 
     @property
     def floquet_max_modulus(self) -> float:
@@ -137,6 +141,7 @@ def periodic_block(orbit, scene) -> dict:
     periodic = orbit.converged and orbit.stable
     return {"method": "periodic" if periodic else "transient",
             "converged": orbit.converged,
+            "stable": orbit.stable if orbit.converged else None,
             "newton_iterations": orbit.newton_iterations,
             "cycles_integrated": orbit.cycles_integrated,
             "residual": float(orbit.residual) if math.isfinite(orbit.residual) else None,

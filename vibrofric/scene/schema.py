@@ -127,6 +127,9 @@ class Time:
     settle_tolerance: float = 0.005        # a result is "settled" when its drive-force mean moved
                                            # by at most this fraction between the last two
                                            # averaging windows (analytic/summary.py)
+    accuracy: float = 1e-3                 # absolute on F_dv/F_d0: an answer whose step-error
+                                           # estimate exceeds it is given with a warning naming
+                                           # a step that meets it (analytic/accuracy.py)
     method: str = "auto"                   # "auto" or "periodic": the steady cycle by shooting
                                            # (analytic/periodic.py, fem/integrators/periodic.py),
                                            # stepped through T where it does not converge or is

@@ -10,6 +10,24 @@ from .errors import SceneError, law_refused
 from .schema import CHOICES, Scene, to_dict
 
 
+# The base's velocity amplitude v_a = k_v v_d is refused beyond this fraction of the
+# speed of sound in the body, c = sqrt(E / rho). A plane wave of particle velocity v
+# strains a solid by v / c (and stresses it by rho c v): at v_a = 0.1 c the strain is
+# 10%, beyond the elastic limit of any solid the models are for (metals yield at
+# 0.1-1%), where neither the rigid lumped body nor the linear elastic FE block holds.
+# Steel (209 GPa, 7850 kg/m^3): c = 5.2 km/s, v_a up to 516 m/s (the paper's scenes:
+# 0.01 m/s). k_v = 1e20 on the Fig 7 scene (v_a = 5e16 m/s) answered a negative F_dv.
+BASE_SPEED_BOUND = 0.1
+
+
+def body_density(scene) -> float:
+    """The body's density: body.density, or its mass over its volume."""
+    if scene.body.density is not None:
+        return scene.body.density
+    a, b, c = scene.body.size
+    return scene.body.mass / (a * b * c)
+
+
 def _positive(scene, key, allow_zero=False):
     value = scene.get(key)
     if value < 0 or (value == 0 and not allow_zero):
@@ -57,6 +75,8 @@ def validate(scene: Scene) -> None:
     if not 0.0 < scene.time.settle_tolerance < 1.0:
         raise SceneError("time.settle_tolerance",
                          f"must lie in (0, 1), got {scene.time.settle_tolerance}")
+    if not 0.0 < scene.time.accuracy < 1.0:
+        raise SceneError("time.accuracy", f"must lie in (0, 1), got {scene.time.accuracy}")
     try:
         level_counts(scene.fem.mesh)
     except ValueError as err:
@@ -66,10 +86,22 @@ def validate(scene: Scene) -> None:
         raise SceneError(*refusal)
     try:  # a law file's first steps at the scene's values, bounds-checked (friction_law.law_check)
         contact_law = scene.friction
-        contact_law.law.probe(contact_law, scene.time.dt)
-        contact_law.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)   # F_d0
+        law = contact_law.law
+        law.probe(contact_law, scene.time.dt)
+        sliding_force = contact_law.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)
     except LawError as err:
         raise law_refused(err) from None
+    if sliding_force <= 0.0:   # mu = 0: F_d0 = 0, nothing for the vibration to reduce
+        key = "contact.mu" if "mu" in law.parameters else "contact.law"
+        raise SceneError(key, f"{scene.get(key) if key == 'contact.mu' else scene.contact.law} "
+                              "gives no friction (F_d0 = 0): F_dv/F_d0 is undefined")
+    body_sound_speed = math.sqrt(scene.body.E / body_density(scene))
+    if scene.v_a > BASE_SPEED_BOUND * body_sound_speed:
+        raise SceneError("vibration.k_v",
+                         f"{scene.vibration.k_v:g} makes the base's velocity amplitude k_v v_d = "
+                         f"{scene.v_a:.3g} m/s, beyond {BASE_SPEED_BOUND:g} of the speed of "
+                         f"sound in the body sqrt(E/rho) = {body_sound_speed:.4g} m/s: no "
+                         "solid carries that motion elastically")
     if scene.vibrated:
         vib, time = scene.vibration, scene.time
         steps_per_cycle = 1.0 / (vib.f * time.dt)
