@@ -280,90 +280,88 @@ def test_command_line_mistakes_are_refused_before_any_work(tmp_path, capsys, mis
     assert list(tmp_path.iterdir()) == []
 
 
-def run_lanes(tmp_path, monkeypatch, workers, completion_order):
-    """_run_by_continuation on a 4 x 2 grid with a pool that finishes its tasks in the
-    order ``completion_order`` picks from those in flight; each point's "orbit" is its
-    name. Returns (the ledger, the points in the order they ran, {point: the start it
-    was given}, the tasks in flight at each moment, the points reported finished,
-    {point: its lane})."""
+def test_lanes_are_a_function_of_the_grid_alone():
+    """Lanes run along the last key between float values, at most LANE_POINTS long, cut
+    near-equally; a law (any value not a float) is never crossed: each such point is a
+    lane of its own, and a row of another key's value starts new lanes."""
+    from vibrofric.batch.lanes import LANE_POINTS, lanes
+    from vibrofric.grid import Range, canonical_grid, grid_points
+
+    def cut(*grid):
+        return lanes(list(grid_points(canonical_grid(list(grid)))))
+
+    assert LANE_POINTS == 4   # the cases below are written for it
+    assert cut(("vibration.k_v", Range(0.0, 20.0, 6))) == [[0, 1, 2], [3, 4, 5]]
+    assert cut(("vibration.k_v", Range(0.0, 20.0, 9))) == [[0, 1, 2], [3, 4, 5], [6, 7, 8]]
+    assert cut(("contact.law", ["dahl", "lugre"]), ("vibration.k_v", [2, 6])) == [[0, 1], [2, 3]]
+    assert cut(("vibration.k_v", [2, 6]), ("contact.law", ["dahl", "lugre"])) == [[0], [1], [2], [3]]
+
+
+def run_lanes(tmp_path, monkeypatch, workers, completion_order, finished_before=()):
+    """_run_by_continuation on a 2 x 6 grid (two rows of two lanes each) with a pool
+    that finishes its tasks in the order ``completion_order`` picks from those in flight;
+    each point's "orbit" is its name, and a point finished by an earlier run (named in
+    ``finished_before``) holds "disk:<name>". Returns (the points in grid order, {point:
+    the start it was given}, the most tasks in flight at once, the points reported)."""
     from vibrofric import scene as scenes
     from vibrofric.batch import study
     from vibrofric.batch.ledger import Ledger
     from vibrofric.batch.points import plan
 
     base = scenes.load(pathlib.Path(SCENE), ['time.method="periodic"'])
-    grid = [("vibration.k_v", [2.0, 3.0, 20.0, 6.0]), ("vibration.theta_deg", [0.0, 90.0])]
+    grid = [("vibration.theta_deg", [0.0, 90.0]), ("vibration.k_v", [2.0, 3.0, 4.0, 6.0, 12.0, 20.0])]
     ledger = Ledger(plan(base, grid, tmp_path / "points"), "fe", tmp_path)
-    ran, starts, in_flight, lanes = [], {}, [], {}
+    names = [point.name for point in ledger.points]
+    starts, flights = {}, []
 
     def pool(function, tasks, pool_workers, on_result):
         assert pool_workers == workers
         flight = list(tasks)
         while flight:
-            in_flight.append(len(flight))
+            flights.append(len(flight))
             task = flight.pop(completion_order(len(flight)))
-            point, _, start, lane = task
-            ran.append(point.name)
+            point, _, start, _ = task
             starts[point.name] = start
-            lanes[point.name] = lane
             flight.extend(on_result(task, point.name) or ())
 
+    def in_process(point, mode, start):
+        starts[point.name] = start
+        return point.name
+
     monkeypatch.setattr(study, "run_on_pool", pool)
+    monkeypatch.setattr(study, "run_point", in_process)
+    monkeypatch.setattr(study, "neighbour_orbit", lambda directory: f"disk:{directory.name}")
+    todo = [point for point in ledger.points if point.name not in finished_before]
     reported = []
-    study._run_by_continuation(ledger.points, ledger, "fe", workers, reported.append)
-    return ledger, ran, starts, in_flight, [point.name for point in reported], lanes
+    study._run_by_continuation(todo, ledger, "fe", workers, reported.append)
+    return names, starts, max(flights, default=1), [point.name for point in reported]
 
 
-@pytest.mark.parametrize("order", ["first", "last"])
-def test_two_workers_work_the_grid_from_both_ends_each_point_from_its_lanes_last(
-        tmp_path, monkeypatch, order):
-    """With two workers the grid is worked from both ends at once, a lane forward from
-    the first point and one back from the last, until they meet, whichever lane's points
-    end first; every point runs once, each lane's from the orbit of its point before, and
-    only the two first points start with none (nothing on disk yet)."""
+@pytest.mark.parametrize("workers, order", [(1, "first"), (2, "first"), (2, "last"), (3, "last"),
+                                            (9, "first")])
+def test_every_point_starts_from_its_lanes_point_before_however_many_workers(
+        tmp_path, monkeypatch, workers, order):
+    """Whatever the workers and whichever task ends first: every point runs once, from
+    the orbit of the point before it in its lane (lanes.py: here [0 1 2] [3 4 5] of each
+    row), a lane's first from none; no more lanes at once than workers."""
     pick = (lambda n: 0) if order == "first" else (lambda n: n - 1)
-    ledger, ran, starts, in_flight, reported, lanes = run_lanes(tmp_path, monkeypatch, 2, pick)
-    names = [point.name for point in ledger.points]
-    assert sorted(ran) == sorted(names) and sorted(reported) == sorted(names)
-    assert set(in_flight[:-1]) == {2}             # both lanes busy until they meet
-    forward = [k for k, name in enumerate(names) if lanes[name] == lanes[names[0]]]
-    assert forward == list(range(len(forward)))   # the lanes meet: one prefix, one suffix
-    expected = [(names[k - 1] if k > 0 else None) if k in forward else
-                (names[k + 1] if k + 1 < len(names) else None) for k in range(len(names))]
-    assert [starts[name] for name in names] == expected
+    names, starts, most, reported = run_lanes(tmp_path, monkeypatch, workers, pick)
+    assert sorted(reported) == sorted(names)
+    firsts = {0, 3, 6, 9}
+    assert [starts[name] for name in names] == [
+        None if k in firsts else names[k - 1] for k in range(len(names))]
+    assert most <= workers
 
 
-def test_one_worker_runs_the_grid_in_order_in_this_process(tmp_path, monkeypatch):
-    """With one worker: no pool, every point in grid order from the one before."""
-    from vibrofric.batch import points as points_module
+def test_a_resumed_sweep_starts_from_the_orbits_its_finished_points_left(tmp_path, monkeypatch):
+    """A point whose lane's point before it was finished by an earlier run starts from
+    the orbit that one's directory holds, as it would have in one run."""
+    from vibrofric.grid import point_name
 
-    calls = []
-    monkeypatch.setattr(points_module, "run_point",
-                        lambda point, mode, start: calls.append((point.name, start)) or point.name)
-    ledger, ran, _, _, reported, _ = run_lanes(tmp_path, monkeypatch, 1, lambda n: 0)
-    names = [point.name for point in ledger.points]
-    assert ran == [] and reported == names
-    assert calls == list(zip(names, [None] + names[:-1]))
-
-
-def test_more_workers_cut_the_grid_into_segments_of_equal_expected_cost():
-    """Four workers: two segments, each worked from both ends, of about equal expected
-    cost (study.expected_cost: 1 + k_v); three: a segment from both ends with two thirds
-    of the cost and one worked forward alone with the rest."""
-    from types import SimpleNamespace
-
-    from vibrofric.batch import study
-
-    points = [SimpleNamespace(scene=SimpleNamespace(vibration=SimpleNamespace(k_v=k_v)))
-              for k_v in [2.0] * 10 + [20.0] * 4]          # costs 3 x 10, then 21 x 4: 114
-    cost = lambda segment: sum(map(study.expected_cost, segment.points))  # noqa: E731
-    two = study._segments(points, 4)
-    assert [both for _, both in two] == [True, True]
-    assert sum(len(s.points) for s, _ in two) == len(points)
-    assert abs(cost(two[0][0]) - cost(two[1][0])) <= 21      # within the costliest point
-    three = study._segments(points, 3)
-    assert [both for _, both in three] == [True, False]
-    assert abs(cost(three[0][0]) - 2 * 114 / 3) <= 21
+    done = {point_name({"vibration.theta_deg": 0.0, "vibration.k_v": 3.0})}
+    names, starts, _, reported = run_lanes(tmp_path, monkeypatch, 2, lambda n: 0, done)
+    assert sorted(reported) == sorted(set(names) - done)
+    assert starts[names[2]] == f"disk:{names[1]}" and starts[names[0]] is None
 
 
 def test_the_sweeps_time_left_leaves_out_each_workers_first_point(tmp_path):

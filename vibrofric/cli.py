@@ -140,7 +140,11 @@ def build_parser() -> argparse.ArgumentParser:
     sweep.add_argument("--fe", action="store_true",
                        help="run the FE model (and the analytic stepper) at every point")
     sweep.add_argument("--workers", type=_workers,
-                       help="processes, one run each (default: both cores; under mpirun: the ranks)")
+                       help="processes, one run each (default: both cores; never more than the "
+                            "points that can run side by side, nor than the cores without "
+                            "--oversubscribe; under mpirun: the ranks)")
+    sweep.add_argument("--oversubscribe", action="store_true",
+                       help="with --workers N: start N processes even beyond this machine's cores")
 
     bench = commands.add_parser("bench", help="speed against error of every method, side by side")
     _out_argument(bench, "directory for bench.md and bench.png")
@@ -348,7 +352,7 @@ def cmd_sweep(args) -> int:
         out, verdict = _locked_out(args, "sweep")
         fresh = verdict == "replace"
     outcome = run_sweep(scene, grid, "fe" if args.fe else "analytic", out, args.workers,
-                        fresh=fresh)
+                        fresh=fresh, oversubscribe=args.oversubscribe, announce=_announce)
     if outcome.leader:  # under mpirun, rank 0 speaks for all
         if args.json:
             print(json.dumps(outcome.records, indent=2))

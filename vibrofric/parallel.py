@@ -58,29 +58,65 @@ def stop_if_interrupted() -> None:
 def default_workers() -> int:
     """Both cores of a workstation: one process per core, two at most by default,
     as FE runs on more processes than cores only slow each other down."""
-    return min(2, os.cpu_count() or 1)
+    return min(2, cores())
+
+
+def cores() -> int:
+    """The cores this process may run on (its CPU affinity: a batch job's share)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+def worker_count(requested: int | None, side_by_side: int, oversubscribe: bool = False,
+                 worker_bytes: int = 0, available: int | None = None) -> tuple:
+    """(processes to start, a line saying why fewer than ``requested``, or None).
+
+    Never more than ``side_by_side`` (the tasks that can run at once: more
+    processes would wait idle), nor than this machine's cores unless
+    ``oversubscribe`` (asked twice: ``--workers N --oversubscribe``), nor than
+    fit in ``available`` bytes of memory at ``worker_bytes`` each, whatever
+    was asked. The default (``requested`` None): default_workers().
+    """
+    wanted = requested or default_workers()
+    limits = [(max(1, side_by_side), f"{side_by_side} can run side by side")]
+    if not oversubscribe:
+        limits.append((cores(), f"this machine has {cores()} cores (add --oversubscribe to "
+                                 "run more)"))
+    if worker_bytes and available is not None:
+        limits.append((max(1, available // worker_bytes),
+                       f"memory for {max(1, available // worker_bytes)} at ~"
+                       f"{worker_bytes / 2**20:.0f} MiB each is available"))
+    count, why = wanted, None
+    for limit, reason in limits:
+        if limit < count:
+            count, why = limit, reason
+    if requested is None or count == requested:
+        return count, None
+    return count, f"vibrofric: --workers {requested}: {count} process{'es' if count > 1 else ''}, as {why}"
 
 
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
 
 
-def _die_with(parent: int) -> None:
-    """End this worker when ``parent`` dies, however it dies (kill -9 included):
-    Linux's parent-death signal, and a check that the parent has not already
-    gone before it was set."""
+def die_with(parent: int, signum: int = signal.SIGKILL) -> None:
+    """Send this process ``signum`` when ``parent`` dies, however it dies (kill -9
+    included): Linux's parent-death signal; and end it now if the parent has
+    already gone before that was set."""
     if sys.platform.startswith("linux"):
         libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+        libc.prctl(PR_SET_PDEATHSIG, signum)
     if os.getppid() != parent:
         os._exit(1)
 
 
 def _worker_start(parent: int):
-    """In each worker: it dies with its parent (_die_with); Ctrl-C is the
+    """In each worker: it dies with its parent (die_with); Ctrl-C is the
     parent's to handle, and SIGTERM, which only the parent sends a worker, ends
     it at once (a forked worker would otherwise inherit interruptible()'s
     handler and carry on with its next task)."""
-    _die_with(parent)
+    die_with(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
@@ -98,12 +134,17 @@ def run_on_pool(function, tasks, workers: int, on_result) -> None:
     process at a time; ``on_result(task, result)`` in the parent as each ends,
     which may return further tasks (an iterable), run on the same pool.
 
-    An exception from a task, or an interrupt, ends the whole pool.
+    An exception from a task, or an interrupt, ends the whole pool: its workers
+    are terminated, and gone, before this returns (what they were writing is
+    then the caller's to clear: output.remove_partials). No more processes are
+    started than ``tasks`` (an on_result returns one task at most for the one it
+    was given, in every use here): Python starts a forked pool's every process at once.
     """
     import multiprocessing  # here: every command imports this module, few start a pool
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(_start_method()),
+    tasks = list(tasks)
+    pool = ProcessPoolExecutor(max(1, min(workers, len(tasks))), mp_context=multiprocessing.get_context(_start_method()),
                                initializer=_worker_start, initargs=(os.getpid(),))
     try:
         futures = {pool.submit(function, task): task for task in tasks}
@@ -115,8 +156,11 @@ def run_on_pool(function, tasks, workers: int, on_result) -> None:
                     futures[pool.submit(function, follow)] = follow
     except BaseException:
         # Python 3.14's ProcessPoolExecutor.terminate_workers() does this.
-        for process in list(pool._processes.values()):
+        processes = list(pool._processes.values())
+        for process in processes:
             process.terminate()
+        for process in processes:   # gone, so that nothing writes after this returns
+            process.join(timeout=5)
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown()

@@ -7,10 +7,11 @@ writes each point as it ends and resumes an interrupted sweep.
 
 from tqdm import tqdm
 
-from ..analytic.continuation import chunks, run_in_sequence
+from ..analytic.continuation import run_in_sequence
 from ..analytic.solve import solve
 from ..grid import grid_points
 from ..parallel import default_workers, run_on_pool
+from .lanes import lanes
 
 
 def run_point(scene, values: dict) -> dict:
@@ -24,8 +25,8 @@ def _run_task(task):
     return run_point(scene, values)
 
 
-def _run_chunk(task):
-    """A contiguous run of grid points by continuation (analytic/continuation.py)."""
+def _run_lane(task):
+    """A lane of grid points by continuation (lanes.py, analytic/continuation.py)."""
     _, scene, points = task
     return [{**values, **summary} for values, summary in zip(points, run_in_sequence(scene, points))]
 
@@ -35,7 +36,7 @@ def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> lis
 
     Every point's scene is checked first: a bad value raises SceneError before any work.
     """
-    points = grid_points(grid)
+    points = list(grid_points(grid))
     for values in points:
         scene.with_values(values)
     results = [None] * len(points)
@@ -48,12 +49,11 @@ def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> lis
         if scene.time.method == "transient":
             tasks = [(i, scene, values) for i, values in enumerate(points)]
             run_on_pool(_run_task, tasks, workers, store)
-        else:   # periodic: each worker a contiguous run of the grid, by continuation
-            def store_chunk(task, records):
+        else:   # periodic or auto: the grid's lanes, each by continuation (as vibrofric sweep)
+            def store_lane(task, records):
                 for i, record in zip(task[0], records):
                     store((i,), record)
 
-            tasks = [(part, scene, [points[i] for i in part])
-                     for part in chunks(len(points), 4 * workers)]
-            run_on_pool(_run_chunk, tasks, workers, store_chunk)
+            tasks = [(lane, scene, [points[i] for i in lane]) for lane in lanes(points)]
+            run_on_pool(_run_lane, tasks, workers, store_lane)
     return results
