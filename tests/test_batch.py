@@ -13,7 +13,7 @@ import time
 import pytest
 from conftest import child_environment
 
-from vibrofric.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_POINTS_FAILED, main
+from vibrofric.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_POINTS_FAILED, EXIT_TERMINATED, main
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SCENE = str(ROOT / "scenes" / "longitudinal.toml")
@@ -134,7 +134,7 @@ def kill_after_its_first_point(args, out) -> None:
         assert sweep.poll() is None and time.monotonic() < deadline, sweep.stderr.read()
         time.sleep(0.01)
     sweep.send_signal(signal.SIGTERM)
-    assert sweep.wait(timeout=60) == EXIT_INTERRUPTED, sweep.stderr.read()
+    assert sweep.wait(timeout=60) == EXIT_TERMINATED, sweep.stderr.read()
 
 
 def test_a_killed_sweep_resumes_without_rerunning_finished_points(serial, tmp_path):
@@ -186,6 +186,33 @@ def test_a_killed_pool_stops_its_workers_and_resumes(tmp_path):
     whole = tmp_path / "whole"
     assert main(pool_sweep(whole)) == 0
     assert without_timing(results(out)) == without_timing(results(whole))
+
+
+def as_in_a_terminal():
+    """Ctrl-C as a command started from a terminal has it (a test run in the
+    background inherits it ignored)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.mark.parametrize("how, code", [(signal.SIGINT, EXIT_INTERRUPTED), (signal.SIGTERM, EXIT_TERMINATED)])
+def test_an_interrupted_pool_leaves_no_partial_directory(tmp_path, how, code):
+    """Ctrl-C or SIGTERM to a two-worker sweep while both workers are inside a point
+    (an analytic point stages its directory for its whole run: ~0.1 s stepped to
+    T = 2 s): the workers end, their staged directories are cleared on the way out,
+    and the exit code is 128 + the signal's number."""
+    out = tmp_path / "sweep"
+    args = ["sweep", SCENE, "--set", "time.T=2", "--set", "time.method=transient",
+            "--grid", "vibration.theta_deg=0:348:30", "--out", str(out), "--workers", "2"]
+    sweep = subprocess.Popen(command(args), env=child_environment(), cwd=ROOT, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.PIPE, text=True, preexec_fn=as_in_a_terminal)
+    deadline = time.monotonic() + 120
+    while not (out / "points").is_dir() or not summary_times(out):
+        assert sweep.poll() is None and time.monotonic() < deadline, sweep.stderr.read()
+        time.sleep(0.01)
+    sweep.send_signal(how)
+    assert sweep.wait(timeout=60) == code, sweep.stderr.read()
+    assert [p.name for p in (out / "points").iterdir() if p.name.startswith(".")] == []
+    assert len(results(out)) == len(summary_times(out)) >= 1
 
 
 def test_an_invalid_point_fails_alone_and_is_reported(tmp_path):

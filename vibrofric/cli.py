@@ -7,10 +7,11 @@ import sys
 
 def _interrupted_while_starting(signum, frame):
     """Ctrl-C or SIGTERM before the command has begun (while Python imports it or
-    reads its arguments): nothing is written yet, so it ends at once, exit 130, as
-    it would a moment later (main's interruptible() takes over from here)."""
+    reads its arguments): nothing is written yet, so it ends at once, exit 128 +
+    the signal's number (130, 143), as it would a moment later (main's
+    interruptible() takes over from here)."""
     os.write(2, b"vibrofric: interrupted while starting; nothing was written\n")
-    os._exit(130)
+    os._exit(128 + signum)
 
 
 if __name__ == "__main__" or os.path.basename(sys.argv[0]) == "vibrofric":  # the command's own process
@@ -40,7 +41,8 @@ EXIT_FAILED = 1          # something failed that is not the input's fault (a ful
 EXIT_BAD_INPUT = 2
 EXIT_NUMERICAL = 3
 EXIT_POINTS_FAILED = 4   # a sweep finished, but some of its points failed
-EXIT_INTERRUPTED = 130   # Ctrl-C or SIGTERM, as a shell reports SIGINT
+EXIT_INTERRUPTED = 130   # Ctrl-C, as a shell reports SIGINT (128 + 2)
+EXIT_TERMINATED = 143    # SIGTERM (128 + 15)
 FAILURES_LISTED = 10     # failed points named on stderr; results.csv has them all
 
 # At exit, leave every object to the end of the process instead of to the cyclic
@@ -469,7 +471,7 @@ def main(argv=None) -> int:
             return COMMANDS[args.command](args) or 0
     except KeyboardInterrupt as interrupt:
         print(_interrupted(args.command, str(interrupt)), file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return EXIT_TERMINATED if str(interrupt) == "SIGTERM" else EXIT_INTERRUPTED
     except OSError as err:
         if err.errno in DISK_FULL:
             name = f" writing {err.filename}" if err.filename else ""
