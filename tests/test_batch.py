@@ -343,6 +343,43 @@ def test_a_sweep_over_the_law_and_another_key_runs_every_point(tmp_path):
     assert without_timing(results(tmp_path / "1")) == without_timing(results(tmp_path / "2"))
 
 
+def test_workers_are_never_more_than_the_points_or_the_cores_unless_asked_twice(monkeypatch):
+    """parallel.worker_count on a machine of 2 cores: never more processes than tasks that
+    can run side by side, nor than the cores without oversubscribe, nor than fit in memory;
+    a line says why, when fewer than asked for run."""
+    from vibrofric import parallel
+
+    monkeypatch.setattr(parallel, "cores", lambda: 2)
+    count, note = parallel.worker_count(100000, 2)
+    assert count == 2 and note.startswith("vibrofric: --workers 100000: 2 processes, as 2 can run")
+    count, note = parallel.worker_count(5, 10)
+    assert count == 2 and "2 cores" in note and "--oversubscribe" in note
+    assert parallel.worker_count(5, 10, oversubscribe=True) == (5, None)
+    assert parallel.worker_count(5, 3, oversubscribe=True)[0] == 3
+    count, note = parallel.worker_count(5, 10, True, worker_bytes=2**30, available=3 * 2**30)
+    assert count == 3 and "memory" in note
+    assert parallel.worker_count(None, 10) == (2, None)       # the default: both cores, said nothing
+    assert parallel.worker_count(None, 1) == (1, None)
+
+
+def test_a_sweep_asked_for_more_workers_than_points_runs_as_many_as_it_can_and_says_so(tmp_path, capsys):
+    """--workers 100000 on two points (stepped: each point on its own) starts two
+    processes, says so in one line, and gives the serial results."""
+    out = tmp_path / "many"
+    assert main(analytic_sweep(out, "--set", "time.method=transient", "--workers", "100000")) == 0
+    err = capsys.readouterr().err
+    assert "vibrofric: --workers 100000: 2 processes, as 2 can run side by side" in err
+    serial = tmp_path / "serial"
+    assert main(analytic_sweep(serial, "--set", "time.method=transient", "--workers", "1")) == 0
+    assert without_timing(results(out)) == without_timing(results(serial))
+    capsys.readouterr()
+    over = tmp_path / "over"   # three points, three processes even on two cores: asked twice
+    args = ["sweep", SCENE, "--set", "time.T=0.2", "--set", "time.method=transient",
+            "--grid", "vibration.k_v=2,6,20", "--out", str(over), "--workers", "3", "--oversubscribe"]
+    assert main(args) == 0
+    assert "--workers" not in capsys.readouterr().err
+
+
 def test_lanes_are_a_function_of_the_grid_alone():
     """Lanes run along the last key between float values, at most LANE_POINTS long, cut
     near-equally; a law (any value not a float) is never crossed: each such point is a
