@@ -380,6 +380,58 @@ def test_a_sweep_asked_for_more_workers_than_points_runs_as_many_as_it_can_and_s
     assert "--workers" not in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("count", ["1000000000", "10000000000000000000000"])
+def test_a_grid_too_large_is_refused_in_one_line_before_it_is_expanded(tmp_path, count):
+    """A range of 1e9 or 1e22 values is counted, not made (grid.Range): refused in one line
+    naming the grid and what it would take, exit 2, nothing written, in seconds and without
+    the memory a list of its values would take (1e9 floats: 24 GB before; the child's peak
+    is allowed 1 GB, several times what the command needs to load)."""
+    import os
+
+    grid = f"vibration.k_v=0:20:{count}"
+    child = subprocess.Popen(command(["sweep", SCENE, "--grid", grid, "--out", str(tmp_path / "never")]),
+                             env=child_environment(), cwd=ROOT, stderr=subprocess.PIPE, text=True)
+    started = time.monotonic()
+    _, status, usage = os.wait4(child.pid, 0)
+    seconds = time.monotonic() - started
+    child.returncode = os.waitstatus_to_exitcode(status)
+    err = child.stderr.read().strip().splitlines()
+    assert child.returncode == EXIT_BAD_INPUT and len(err) == 1, err
+    assert err[0].startswith(f"vibrofric: invalid scene: --grid {grid}: {int(count):,} points would take")
+    assert "of disk" in err[0] and "of computing on" in err[0]
+    assert usage.ru_maxrss < 2**20      # KiB: 1 GiB
+    assert seconds < 60                 # the command's imports, under load; the check itself is instant
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_long_sweep_is_announced_and_a_short_one_is_not(tmp_path):
+    """budget.check_grid's estimate of a million-point grid passes (it fits) and is
+    announced in one line; the Fig 6 grid of 41 points says nothing."""
+    from vibrofric import budget
+    from vibrofric import scene as scenes
+    from vibrofric.grid import Range
+
+    base = scenes.load(pathlib.Path(SCENE))
+    needs = budget.check_grid([("vibration.k_v", Range(0.0, 20.0, 10**6))], [base], False, tmp_path, 2)
+    notice = budget.long_sweep_notice(needs, 2)
+    assert needs["points"] == 10**6 and notice.startswith("vibrofric: a sweep of 1,000,000 points")
+    assert "\n" not in notice and "of computing on 2 processes" in notice
+    short = budget.check_grid([("vibration.k_v", Range(0.0, 20.0, 41))], [base], False, tmp_path, 2)
+    assert budget.long_sweep_notice(short, 2) is None
+
+
+def test_grid_ranges_are_numpys_linspace_value_for_value():
+    """grid.Range computes each value as numpy.linspace does (point names depend on it)."""
+    import numpy as np
+
+    from vibrofric.grid import Range, parse_grid
+
+    for start, stop, count in [(0, 20, 41), (0, 360, 25), (0.1, 0.7, 13), (1e-3, 3.3, 7), (2, 2, 1),
+                               (5, -3, 9)]:
+        assert list(Range(float(start), float(stop), count)) == [float(v) for v in np.linspace(start, stop, count)]
+    assert parse_grid("vibration.k_v=0:20:1e22")[1][-1] == 20.0
+
+
 def test_lanes_are_a_function_of_the_grid_alone():
     """Lanes run along the last key between float values, at most LANE_POINTS long, cut
     near-equally; a law (any value not a float) is never crossed: each such point is a
