@@ -127,7 +127,8 @@ def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) ->
         if scene.fem.output_every > 0:
             frames = scene.steps // scene.fem.output_every + 2
             disk += frames * (dofs // 3) * VTK_BYTES_PER_NODE
-    return {"steps": scene.steps, "rows": plan.rows, "dofs": dofs,
+    return {"steps": scene.steps, "rows": plan.rows, "full_rows": plan.steps - plan.full_from + 1,
+            "dofs": dofs,
             "memory": memory, "disk": disk, "seconds": seconds}
 
 
@@ -148,6 +149,15 @@ def check(scenes, fe: bool, out: Path, full_series: bool = False, series: bool =
             raise SceneError("fem.mesh", f"{scene.fem.mesh!r} has {worst['dofs']:,} degrees of "
                                          f"freedom: the FE model needs ~{_bytes(worst['memory'])} "
                                          f"of memory, and {_bytes(memory)} is available")
+        full = worst["full_rows"]
+        if full > worst["rows"] / 2:   # neither time.T nor time.series_dt changes these rows
+            raise SceneError("time.dt", f"{scene.time.dt:g} s keeps every step of the run's last "
+                                        f"{full * scene.time.dt:.3g} s (its two averaging windows "
+                                        f"of {scene.averaged_cycles} cycles, and the plotted ones): "
+                                        f"{full:.3g} rows, whose time series needs "
+                                        f"~{_bytes(worst['memory'])} of memory, and {_bytes(memory)} "
+                                        "is available: raise time.dt or average fewer cycles "
+                                        "(time.average_cycles)")
         raise SceneError("time.T", f"{scene.time.T:g} s at time.dt = {scene.time.dt:g} s is "
                                    f"{worst['steps']:.3g} steps, whose time series (a row every "
                                    f"time.series_dt = {scene.time.series_dt:g} s: {worst['rows']:.3g} "
