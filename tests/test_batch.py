@@ -432,6 +432,20 @@ def test_grid_ranges_are_numpys_linspace_value_for_value():
     assert parse_grid("vibration.k_v=0:20:1e22")[1][-1] == 20.0
 
 
+def test_the_summary_line_counts_every_point_by_how_it_was_answered(tmp_path):
+    """A grid over time.method: the points stepped because their scene said transient are
+    counted as stepped, beside those whose orbit did not answer: every point is counted."""
+    from vibrofric.batch.study import Outcome
+
+    stepped = {"periodic": {"method": "transient", "reason": "no stable orbit"}}
+    records = [{"time.method": "transient"}, {"time.method": "periodic", "periodic": {"method": "periodic"}},
+               {"time.method": "auto", **stepped}, {"time.method": "auto", "error": "invalid scene: ..."}]
+    line = Outcome(records, ["time.method"], tmp_path, 0, 1.0, True).summary_line()
+    assert "; 1 answered by their periodic orbit, 2 stepped;" in line
+    only_stepped = Outcome(records[:1], ["time.method"], tmp_path, 0, 1.0, True).summary_line()
+    assert "periodic orbit" not in only_stepped
+
+
 def test_lanes_are_a_function_of_the_grid_alone():
     """Lanes run along the last key between float values, at most LANE_POINTS long, cut
     near-equally; a law (any value not a float) is never crossed: each such point is a

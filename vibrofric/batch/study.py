@@ -74,10 +74,12 @@ class Outcome:
         line = (f"sweep: {len(self.records)} points ({self.reused} reused{rerun}), "
                 f"{len(self.failed)} failed, {len(self.unsettled)} unsettled, {self.wall_time_s:.1f} s")
         methods = [method(r) for r in self.records if ERROR not in r]
-        methods = [m for m in methods if m is not None]
-        if methods:   # time.method periodic or auto (analytic/periodic.py, fem/integrators/periodic.py)
-            line += (f"; {methods.count('periodic')} answered by their periodic orbit, "
-                     f"{methods.count('transient')} stepped")
+        if any(m is not None for m in methods):
+            # some point's scene asked for its orbit (time.method periodic or auto:
+            # analytic/periodic.py, fem/integrators/periodic.py); a point stepped by its
+            # time.method (None) is stepped all the same
+            stepped = len(methods) - methods.count("periodic")
+            line += f"; {methods.count('periodic')} answered by their periodic orbit, {stepped} stepped"
         worst = self.worst_fe_error()
         if worst is not None:
             line += f"; worst |FE - analytic| / analytic {worst[0]:.2%} at {worst[1]}"
