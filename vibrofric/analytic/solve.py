@@ -3,6 +3,7 @@
 
 from time import perf_counter
 
+from ..core.series import check_stepped_window
 from .coupled import load_coupled, run_coupled
 from .longitudinal import load_longitudinal, run_longitudinal
 from .periodic import find_orbit, load_cycle, steady_series
@@ -37,6 +38,7 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None):
         orbit = find_orbit(scene, stepper, start)
         if orbit.converged and orbit.stable:
             return steady_series(orbit, scene), summarize_orbit(orbit, scene), orbit.z
+        check_stepped_window(scene, "no stable periodic orbit, so the scene is stepped through time.T: its ")
     LOADERS[stepper](scene)
     start_time = perf_counter()
     series = STEPPERS[stepper](scene)

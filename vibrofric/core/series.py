@@ -13,6 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import WindowDoesNotFit
+
 COLUMNS = ("t", "F_d", "F_x", "F_y", "x", "y", "x_b", "y_b")
 PLOT_CYCLES = 4  # cycles shown at full resolution in the F_x, F_y plot
 ROWS_PER_CYCLE = 8  # at least this many rows a vibration cycle in the written series: the
@@ -123,6 +125,22 @@ def averaging_steps(scene) -> int:
     A scene without vibration averages over as many cycles of ``vibration.f``.
     """
     return max(1, int(round(scene.averaged_cycles / (scene.vibration.f * scene.time.dt))))
+
+
+def check_stepped_window(scene, why: str = "") -> None:
+    """Refuse (WindowDoesNotFit) a scene to be stepped through time.T whose
+    averaging window (scene.averaged_cycles, eqs 40-41) does not fit between
+    the vibration's onset and time.T: its F_dv would average over the time before
+    the onset. Checked with the scene for time.method transient
+    (scene.validation), and where periodic or auto fall back to stepping
+    (``why``: the reason, for the message); the orbit they solve for otherwise
+    needs no window."""
+    vib, time = scene.vibration, scene.time
+    cycles = scene.averaged_cycles
+    window = cycles / vib.f
+    if time.T - vib.t_on < window:
+        raise WindowDoesNotFit(f"{why}{cycles} cycles ({window:.3g} s) do not fit between "
+                               f"vibration.t_on = {vib.t_on} s and time.T = {time.T} s")
 
 
 def full_resolution_steps(scene) -> int:

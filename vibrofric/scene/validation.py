@@ -4,7 +4,9 @@ invalid or unrunnable one raises SceneError naming its key."""
 from ..friction_law import ContactLaw, LawError, load_law
 from ..meshes import level_counts
 from ..sense import nonsense
-from .errors import SceneError, law_refused
+from ..core.errors import WindowDoesNotFit
+from ..core.series import check_stepped_window
+from .errors import SceneError, law_refused, refused
 from .schema import CHOICES, Scene, to_dict
 
 
@@ -78,9 +80,9 @@ def validate(scene: Scene) -> None:
             raise SceneError("time.dt", f"{time.dt} s resolves a vibration cycle of 1/f = "
                                         f"{1 / vib.f:.3g} s in {steps_per_cycle:.3g} steps; "
                                         "at least 10 are needed")
-        cycles = scene.averaged_cycles
-        window = cycles / vib.f
-        if time.T - vib.t_on < window:
-            raise SceneError("time.average_cycles",
-                             f"{cycles} cycles ({window:.3g} s) do not fit between "
-                             f"vibration.t_on = {vib.t_on} s and time.T = {time.T} s")
+        if time.method == "transient":   # periodic and auto answer by the orbit, if they can
+            try:
+                check_stepped_window(scene)
+            except WindowDoesNotFit as err:
+                raise refused(err) from None
+
