@@ -388,8 +388,17 @@ COMMANDS = {"analytic": cmd_analytic, "bench": cmd_bench, "run": cmd_run, "sweep
             "warm": cmd_warm}
 
 
-def _interrupted(command: str, signal_name: str) -> str:
+def _interrupted(command: str, signal_name: str) -> str | None:
+    """The line that says what an interrupt left; None in an MPI rank but the first
+    (rank 0 speaks for all)."""
+    from .batch import mpi
+
+    rank = mpi.launcher_rank()
+    if rank:
+        return None
     how = "by SIGTERM" if signal_name == "SIGTERM" else "(Ctrl-C)"
+    if signal_name == "SIGTERM" and "OMPI_COMM_WORLD_SIZE" in os.environ:
+        how += " (Open MPI's mpirun sends it for a Ctrl-C too)"
     if command == "sweep":
         return (f"vibrofric: sweep interrupted {how}; the finished points are kept: rerun the "
                 "same command to resume")
@@ -470,7 +479,7 @@ def main(argv=None) -> int:
         with interruptible(), contextlib.ExitStack() as args.held:  # the locks of --out
             return COMMANDS[args.command](args) or 0
     except KeyboardInterrupt as interrupt:
-        print(_interrupted(args.command, str(interrupt)), file=sys.stderr)
+        _announce(_interrupted(args.command, str(interrupt)))
         return EXIT_TERMINATED if str(interrupt) == "SIGTERM" else EXIT_INTERRUPTED
     except OSError as err:
         if err.errno in DISK_FULL:
