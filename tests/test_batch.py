@@ -125,6 +125,54 @@ def test_mpirun_on_two_ranks_gives_the_serial_results(serial, tmp_path):
     assert without_timing(results(out)) == without_timing(results(serial))
 
 
+MPI_ENVIRONMENT = dict(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                       OMPI_MCA_rmaps_base_oversubscribe="1")   # see the test above
+
+
+@pytest.mark.skipif(mpi_launcher() is None, reason="no mpirun")
+def test_mpirun_sweeps_by_continuation_give_the_results_of_one_worker(tmp_path):
+    """The ranks work the same lanes (batch/lanes.py): results.csv equals one worker's."""
+    runs = {}
+    for name, launcher, more in [("one", [], ["--workers", "1"]), ("mpi", [mpi_launcher(), "-n", "2"], [])]:
+        out = tmp_path / name
+        done = subprocess.run([*launcher, *command(["sweep", SCENE, "--grid", "vibration.k_v=0:20:6",
+                                                    "--out", str(out), *more])],
+                              env=child_environment(**MPI_ENVIRONMENT), cwd=ROOT, capture_output=True,
+                              text=True, timeout=300)
+        assert done.returncode == 0, done.stderr
+        runs[name] = without_timing(results(out))
+    assert runs["mpi"] == runs["one"]
+
+
+@pytest.mark.skipif(mpi_launcher() is None or "Open MPI" not in subprocess.run(
+    [mpi_launcher() or "true", "--version"], capture_output=True, text=True).stdout, reason="no Open MPI")
+@pytest.mark.parametrize("how", [signal.SIGTERM, signal.SIGKILL])
+def test_mpirun_stopped_or_killed_takes_its_ranks_with_it(tmp_path, how):
+    """SIGTERM to Open MPI's mpirun (it sends its ranks SIGTERM, for SIGINT too, and exits 1
+    itself, whatever they return): one line from rank 0, no partial directory; SIGKILL to
+    it: its ranks end too (mpi.end_with_launcher), within seconds."""
+    out = tmp_path / "sweep"
+    args = ["sweep", str(ROOT / "scenes" / "coupled.toml"), "--grid", "vibration.k_v=0:20:41",
+            "--grid", "vibration.theta_deg=0:360:25", "--out", str(out)]
+    launcher = subprocess.Popen([mpi_launcher(), "-n", "2", *command(args)], env=child_environment(**MPI_ENVIRONMENT),
+                                cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not (out / "points").is_dir() or len(summary_times(out)) < 4:
+        assert launcher.poll() is None and time.monotonic() < deadline, launcher.stderr.read()
+        time.sleep(0.05)
+    launcher.send_signal(how)
+    launcher.wait(timeout=60)
+    err = launcher.stderr.read()
+    stopped = time.monotonic()
+    while processes_running(str(out)) and time.monotonic() < stopped + 10:
+        time.sleep(0.1)
+    assert processes_running(str(out)) == []
+    if how == signal.SIGTERM:
+        assert launcher.returncode == 1
+        assert err.count("vibrofric: sweep interrupted by SIGTERM (Open MPI's mpirun sends it") == 1, err
+        assert [p.name for p in (out / "points").iterdir() if p.name.startswith(".")] == []
+
+
 def kill_after_its_first_point(args, out) -> None:
     """Start the sweep, SIGTERM it as soon as a point has finished, and see it stop."""
     sweep = subprocess.Popen(command(args), env=child_environment(), cwd=ROOT,
