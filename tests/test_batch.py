@@ -154,8 +154,8 @@ def test_mpirun_stopped_or_killed_takes_its_ranks_with_it(tmp_path, how):
     out = tmp_path / "sweep"
     args = ["sweep", str(ROOT / "scenes" / "coupled.toml"), "--grid", "vibration.k_v=0:20:41",
             "--grid", "vibration.theta_deg=0:360:25", "--out", str(out)]
-    launcher = subprocess.Popen([mpi_launcher(), "-n", "2", *command(args)], env=child_environment(**MPI_ENVIRONMENT),
-                                cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    launcher = subprocess.Popen([mpi_launcher(), "-n", "2", *command(args)],
+                                env=child_environment(**MPI_ENVIRONMENT), cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     while not (out / "points").is_dir() or len(summary_times(out)) < 4:
         assert launcher.poll() is None and time.monotonic() < deadline, launcher.stderr.read()
@@ -476,7 +476,8 @@ def test_grid_ranges_are_numpys_linspace_value_for_value():
 
     for start, stop, count in [(0, 20, 41), (0, 360, 25), (0.1, 0.7, 13), (1e-3, 3.3, 7), (2, 2, 1),
                                (5, -3, 9)]:
-        assert list(Range(float(start), float(stop), count)) == [float(v) for v in np.linspace(start, stop, count)]
+        expected = [float(v) for v in np.linspace(start, stop, count)]
+        assert list(Range(float(start), float(stop), count)) == expected
     assert parse_grid("vibration.k_v=0:20:1e22")[1][-1] == 20.0
 
 

@@ -254,7 +254,8 @@ def test_the_averaging_window_is_checked_only_where_the_scene_is_stepped(monkeyp
     from vibrofric.scene import SceneError
 
     with pytest.raises(SceneError, match="^time.average_cycles: 57 cycles"):
-        scene_module.load(ROOT / "scenes" / "longitudinal.toml", ["vibration.t_on=0.99", 'time.method="transient"'])
+        scene_module.load(ROOT / "scenes" / "longitudinal.toml",
+                          ["vibration.t_on=0.99", 'time.method="transient"'])
     late = scene_module.load(ROOT / "scenes" / "longitudinal.toml", ["vibration.t_on=0.99"])
     assert late.time.method == "auto"
     _, summary, orbit = solve_module.solve_with_orbit(late)

@@ -69,21 +69,22 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
-def worker_count(requested: int | None, side_by_side: int, oversubscribe: bool = False,
+def worker_count(requested: int | None, side_by_side: int, oversubscribe: bool | None = False,
                  worker_bytes: int = 0, available: int | None = None) -> tuple:
     """(processes to start, a line saying why fewer than ``requested``, or None).
 
     Never more than ``side_by_side`` (the tasks that can run at once: more
     processes would wait idle), nor than this machine's cores unless
-    ``oversubscribe`` (asked twice: ``--workers N --oversubscribe``), nor than
-    fit in ``available`` bytes of memory at ``worker_bytes`` each, whatever
-    was asked. The default (``requested`` None): default_workers().
+    ``oversubscribe`` (asked twice: ``--workers N --oversubscribe``; None: it
+    cannot be asked for, as in vibrofric.sweep in memory), nor than fit in
+    ``available`` bytes of memory at ``worker_bytes`` each, whatever was
+    asked. The default (``requested`` None): default_workers().
     """
     wanted = requested or default_workers()
     limits = [(max(1, side_by_side), f"{side_by_side} can run side by side")]
     if not oversubscribe:
-        limits.append((cores(), f"this machine has {cores()} cores (add --oversubscribe to "
-                                 "run more)"))
+        hint = " (add --oversubscribe to run more)" if oversubscribe is False else ""
+        limits.append((cores(), f"this machine has {cores()} cores{hint}"))
     if worker_bytes and available is not None:
         limits.append((max(1, available // worker_bytes),
                        f"memory for {max(1, available // worker_bytes)} at ~"
@@ -144,7 +145,8 @@ def run_on_pool(function, tasks, workers: int, on_result) -> None:
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
     tasks = list(tasks)
-    pool = ProcessPoolExecutor(max(1, min(workers, len(tasks))), mp_context=multiprocessing.get_context(_start_method()),
+    pool = ProcessPoolExecutor(max(1, min(workers, len(tasks))),
+                               mp_context=multiprocessing.get_context(_start_method()),
                                initializer=_worker_start, initargs=(os.getpid(),))
     try:
         futures = {pool.submit(function, task): task for task in tasks}

@@ -5,12 +5,14 @@ written. ``vibrofric sweep`` goes through study.run_sweep instead, which
 writes each point as it ends and resumes an interrupted sweep.
 """
 
+import warnings
+
 from tqdm import tqdm
 
 from ..analytic.continuation import run_in_sequence
 from ..analytic.solve import solve
 from ..grid import grid_points
-from ..parallel import default_workers, run_on_pool
+from ..parallel import run_on_pool, worker_count
 from .lanes import lanes
 
 
@@ -35,6 +37,8 @@ def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> lis
     """Run the analytic stepper at every grid point; results in grid order.
 
     Every point's scene is checked first: a bad value raises SceneError before any work.
+    ``workers`` processes (default: both cores), never more than the tasks that can
+    run side by side or than the cores (parallel.worker_count; a warning says so).
     """
     points = list(grid_points(grid))
     for values in points:
@@ -45,15 +49,21 @@ def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> lis
             results[task[0]] = record
             bar.update()
 
-        workers = workers or default_workers()
         if scene.time.method == "transient":
             tasks = [(i, scene, values) for i, values in enumerate(points)]
-            run_on_pool(_run_task, tasks, workers, store)
+            run_on_pool(_run_task, tasks, _workers(workers, len(tasks)), store)
         else:   # periodic or auto: the grid's lanes, each by continuation (as vibrofric sweep)
             def store_lane(task, records):
                 for i, record in zip(task[0], records):
                     store((i,), record)
 
             tasks = [(lane, scene, [points[i] for i in lane]) for lane in lanes(points)]
-            run_on_pool(_run_lane, tasks, workers, store_lane)
+            run_on_pool(_run_lane, tasks, _workers(workers, len(tasks)), store_lane)
     return results
+
+
+def _workers(requested, tasks: int) -> int:
+    count, note = worker_count(requested, tasks, oversubscribe=None)
+    if note:
+        warnings.warn(note.replace("vibrofric: --workers ", "workers="), stacklevel=3)
+    return count
