@@ -182,8 +182,8 @@ def check_grid(grid, samples, fe: bool, out: Path, workers: int) -> dict:
     ranges are counted, not expanded) that cannot fit on this machine: the
     memory the sweep holds for its points (POINT_MEMORY each, measured: a
     planned point's values, scene, name and record), the disk its points
-    write (the costliest of ``samples``, scenes of the grid's corners
-    (grid.corners), times the points) or LONGEST_RUN_S of computing on
+    write (the costliest of ``samples``, scenes of points that bound the
+    grid's cost (grid.samples), times the points) or LONGEST_RUN_S of computing on
     ``workers`` processes (the samples' mean seconds, and POINT_SECONDS, a
     point). One line naming the grid and what it would take; SceneError under
     the grid as its key. Returns {"points", "disk", "seconds"}: the estimates."""

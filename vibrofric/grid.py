@@ -130,13 +130,21 @@ def describe(grid) -> str:
                     for key, values in grid)
 
 
-def corners(grid) -> list:
-    """A few points that bound the grid's cost: every combination of each key's first
-    and last value (of the first MAX_CORNER_KEYS keys; the others at their first)."""
+def samples(grid) -> list:
+    """A few points that bound the grid's cost, without expanding it: every combination
+    of each key's first and last value (of the first MAX_CORNER_KEYS keys; the others
+    at their first), and each value of a list (as typed: its largest may lie inside)
+    with the other keys at their first. A Range's values are monotonic: its ends bound them."""
+    keys = [key for key, _ in grid]
     picks = [(values[0], values[-1]) if k < MAX_CORNER_KEYS else (values[0],)
              for k, (_, values) in enumerate(grid)]
-    keys = [key for key, _ in grid]
-    return [dict(zip(keys, combo)) for combo in dict.fromkeys(itertools.product(*picks))]
+    found = [dict(zip(keys, combo)) for combo in itertools.product(*picks)]
+    firsts = {key: values[0] for key, values in grid}
+    for key, values in grid:
+        if not isinstance(values, Range):
+            found.extend({**firsts, key: value} for value in values)
+    unique = {repr(point): point for point in found}
+    return list(unique.values())
 
 
 MAX_CORNER_KEYS = 6   # 64 corner scenes at most

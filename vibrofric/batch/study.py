@@ -21,7 +21,7 @@ from tqdm import tqdm
 
 from .. import budget, output, plots
 from .. import scene as scene_module
-from ..grid import canonical_grid, corners, grid_size, point_name
+from ..grid import canonical_grid, grid_size, point_name, samples
 from ..parallel import interruptible, run_on_pool, worker_count
 from . import mpi
 from .ledger import Ledger
@@ -327,13 +327,13 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         mpi.end_with_launcher()
     out = Path(out)
     grid = canonical_grid(grid)
-    samples = _corner_scenes(scene, grid)
+    sampled = _sample_scenes(scene, grid)
     planned_workers = comm.size if comm is not None else worker_count(
         workers, grid_size(grid), oversubscribe)[0]
-    needs = budget.check_grid(grid, samples, mode == "fe", out, planned_workers)
+    needs = budget.check_grid(grid, sampled, mode == "fe", out, planned_workers)
     if leader:
         announce(budget.long_sweep_notice(needs, planned_workers))
-    budget.check(samples, mode == "fe", out, series=mode == "fe")  # one run's needs
+    budget.check(sampled, mode == "fe", out, series=mode == "fe")  # one run's needs
     ledger = Ledger(plan(scene, grid, out / "points"), mode, out)
     if fresh and leader and out.exists():
         output.remove(out)
@@ -348,7 +348,7 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
     if comm is None:
         side_by_side = len(_lanes_to_run(todo, ledger)) if continued else len(todo)
         worker_bytes = budget.WORKER_BYTES + max(
-            (budget.estimate(s, mode == "fe", series=False)["memory"] for s in samples), default=0)
+            (budget.estimate(s, mode == "fe", series=False)["memory"] for s in sampled), default=0)
         workers, note = worker_count(workers, side_by_side, oversubscribe, worker_bytes,
                                      budget.available_memory())
         announce(note)
@@ -393,11 +393,11 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
                    time.perf_counter() - start, leader, len(ledger.damaged))
 
 
-def _corner_scenes(scene, grid) -> list:
-    """The scenes of the grid's corners (grid.corners) that make one: what bounds a
+def _sample_scenes(scene, grid) -> list:
+    """The scenes of the grid's samples (grid.samples) that make one: what bounds a
     point's cost, estimated before the grid is expanded."""
     scenes = []
-    for values in corners(grid):
+    for values in samples(grid):
         try:
             scenes.append(scene.with_values(values))
         except scene_module.SceneError:
