@@ -376,6 +376,22 @@ def test_a_sweep_by_continuation_gives_the_same_results_however_it_is_run(tmp_pa
     assert sum(r["periodic.method"] == "periodic" for r in one) >= 4   # continuation was used
 
 
+@pytest.mark.slow
+def test_an_fe_sweep_by_continuation_gives_the_same_results_on_one_worker_and_two(tmp_path):
+    """Six FE points by their periodic orbits (tiny mesh, reduced; two lanes): one worker
+    and two give the same results.csv bit for bit, timing aside (~10 s once compiled)."""
+    runs = []
+    for workers in ("1", "2"):
+        out = tmp_path / workers
+        done = vibrofric(["sweep", SCENE, "--fe", "--set", "fem.mesh=tiny", "--set", "fem.output_every=0",
+                          "--set", "fem.integrator=reduced", "--set", "time.dt=1e-5", "--set", "time.T=0.3",
+                          "--grid", "vibration.k_v=2:12:6", "--out", str(out), "--workers", workers])
+        assert done.returncode == 0, done.stderr
+        assert "6 answered by their periodic orbit" in done.stderr
+        runs.append(without_timing(results(out)))
+    assert runs[0] == runs[1]
+
+
 def test_a_sweep_over_the_law_and_another_key_runs_every_point(tmp_path):
     """contact.law with k_v: each law's points are a lane of their own (an orbit's state
     has the law's size: a LuGre point started from a Dahl orbit failed with 'operands
