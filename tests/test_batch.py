@@ -155,7 +155,8 @@ def test_mpirun_stopped_or_killed_takes_its_ranks_with_it(tmp_path, how):
     args = ["sweep", str(ROOT / "scenes" / "coupled.toml"), "--grid", "vibration.k_v=0:20:41",
             "--grid", "vibration.theta_deg=0:360:25", "--out", str(out)]
     launcher = subprocess.Popen([mpi_launcher(), "-n", "2", *command(args)],
-                                env=child_environment(**MPI_ENVIRONMENT), cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                                env=child_environment(**MPI_ENVIRONMENT), cwd=ROOT,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     while not (out / "points").is_dir() or len(summary_times(out)) < 4:
         assert launcher.poll() is None and time.monotonic() < deadline, launcher.stderr.read()
@@ -414,8 +415,9 @@ def test_workers_are_never_more_than_the_points_or_the_cores_unless_asked_twice(
     from vibrofric import parallel
 
     monkeypatch.setattr(parallel, "cores", lambda: 2)
-    count, note = parallel.worker_count(100000, 2)
-    assert count == 2 and note.startswith("vibrofric: --workers 100000: 2 processes, as 2 can run")
+    count, note = parallel.worker_count(100000, 2, what="points")
+    assert note == "vibrofric: --workers 100000: 2 processes, as the sweep has 2 points to run side by side"
+    assert count == 2
     count, note = parallel.worker_count(5, 10)
     assert count == 2 and "2 cores" in note and "--oversubscribe" in note
     assert parallel.worker_count(5, 10, oversubscribe=True) == (5, None)
@@ -432,7 +434,7 @@ def test_a_sweep_asked_for_more_workers_than_points_runs_as_many_as_it_can_and_s
     out = tmp_path / "many"
     assert main(analytic_sweep(out, "--set", "time.method=transient", "--workers", "100000")) == 0
     err = capsys.readouterr().err
-    assert "vibrofric: --workers 100000: 2 processes, as 2 can run side by side" in err
+    assert "vibrofric: --workers 100000: 2 processes, as the sweep has 2 points to run side by side" in err
     serial = tmp_path / "serial"
     assert main(analytic_sweep(serial, "--set", "time.method=transient", "--workers", "1")) == 0
     assert without_timing(results(out)) == without_timing(results(serial))

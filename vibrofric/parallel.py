@@ -70,18 +70,18 @@ def cores() -> int:
 
 
 def worker_count(requested: int | None, side_by_side: int, oversubscribe: bool | None = False,
-                 worker_bytes: int = 0, available: int | None = None) -> tuple:
+                 worker_bytes: int = 0, available: int | None = None, what: str = "tasks") -> tuple:
     """(processes to start, a line saying why fewer than ``requested``, or None).
 
-    Never more than ``side_by_side`` (the tasks that can run at once: more
-    processes would wait idle), nor than this machine's cores unless
+    Never more than ``side_by_side`` (the tasks that can run at once, named
+    ``what`` in the line: more processes would wait idle), nor than this machine's cores unless
     ``oversubscribe`` (asked twice: ``--workers N --oversubscribe``; None: it
     cannot be asked for, as in vibrofric.sweep in memory), nor than fit in
     ``available`` bytes of memory at ``worker_bytes`` each, whatever was
     asked. The default (``requested`` None): default_workers().
     """
     wanted = requested or default_workers()
-    limits = [(max(1, side_by_side), f"{side_by_side} can run side by side")]
+    limits = [(max(1, side_by_side), f"the sweep has {side_by_side} {what} to run side by side")]
     if not oversubscribe:
         hint = " (add --oversubscribe to run more)" if oversubscribe is False else ""
         limits.append((cores(), f"this machine has {cores()} cores{hint}"))

@@ -51,19 +51,19 @@ def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> lis
 
         if scene.time.method == "transient":
             tasks = [(i, scene, values) for i, values in enumerate(points)]
-            run_on_pool(_run_task, tasks, _workers(workers, len(tasks)), store)
+            run_on_pool(_run_task, tasks, _workers(workers, len(tasks), "points"), store)
         else:   # periodic or auto: the grid's lanes, each by continuation (as vibrofric sweep)
             def store_lane(task, records):
                 for i, record in zip(task[0], records):
                     store((i,), record)
 
             tasks = [(lane, scene, [points[i] for i in lane]) for lane in lanes(points)]
-            run_on_pool(_run_lane, tasks, _workers(workers, len(tasks)), store_lane)
+            run_on_pool(_run_lane, tasks, _workers(workers, len(tasks), "lanes of points"), store_lane)
     return results
 
 
-def _workers(requested, tasks: int) -> int:
-    count, note = worker_count(requested, tasks, oversubscribe=None)
+def _workers(requested, tasks: int, what: str) -> int:
+    count, note = worker_count(requested, tasks, oversubscribe=None, what=what)
     if note:
         warnings.warn(note.replace("vibrofric: --workers ", "workers="), stacklevel=3)
     return count

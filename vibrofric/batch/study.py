@@ -350,7 +350,8 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         worker_bytes = budget.WORKER_BYTES + max(
             (budget.estimate(s, mode == "fe", series=False)["memory"] for s in sampled), default=0)
         workers, note = worker_count(workers, side_by_side, oversubscribe, worker_bytes,
-                                     budget.available_memory())
+                                     budget.available_memory(),
+                                     "lanes of points" if continued else "points")
         announce(note)
     # each worker's (or rank's) first point loads or compiles its loops: not in the rate
     bar = Progress(ledger, enabled=leader, warm_up=comm.size if comm is not None else workers)
