@@ -19,10 +19,8 @@ vibrofric.sweep in memory), so its results are the same bit for bit. A lane
   that a grid of one key is still worked on every core (a lane's points run one
   after the other).
 
-The price of the cold starts, on the analytic Fig 12 grid (coupled, k_v 2-20 x 25
-angles, 125 points): 4267 cycles integrated in all with lanes of at most 4 points,
-4083 with 8, 3953 with whole rows of 25 and 5159 with every point from steady
-sliding (measured on this machine, AMD EPYC, shared, loaded).
+The price of the cold starts, against lanes of 8 or whole rows, is measured in
+docs/performance.md (Design choices measured).
 """
 
 import math
