@@ -174,6 +174,20 @@ def test_mpirun_stopped_or_killed_takes_its_ranks_with_it(tmp_path, how):
         assert [p.name for p in (out / "points").iterdir() if p.name.startswith(".")] == []
 
 
+def test_the_rank_is_read_from_the_launchers_variables(monkeypatch):
+    """parallel.launcher_rank: Open MPI's, Hydra's or PMIx's variable; none outside a
+    launcher, nor under an inherited singleton (see batch.mpi.world)."""
+    from vibrofric.parallel import RANK_VARIABLES, launcher_rank
+
+    for variable in (*RANK_VARIABLES, "OMPI_MCA_ess"):
+        monkeypatch.delenv(variable, raising=False)
+    assert launcher_rank() is None
+    monkeypatch.setenv("PMI_RANK", "3")
+    assert launcher_rank() == 3
+    monkeypatch.setenv("OMPI_MCA_ess", "singleton")
+    assert launcher_rank() is None
+
+
 def kill_after_its_first_point(args, out) -> None:
     """Start the sweep, SIGTERM it as soon as a point has finished, and see it stop."""
     sweep = subprocess.Popen(command(args), env=child_environment(), cwd=ROOT,

@@ -35,7 +35,7 @@ from . import __version__, output  # noqa: E402
 from .core.errors import NumericalError, Refusal  # noqa: E402
 from .output import OutputError  # noqa: E402
 from .library_logs import quiet_libraries  # noqa: E402
-from .parallel import interruptible  # noqa: E402
+from .parallel import interruptible, launcher_rank  # noqa: E402
 
 EXIT_FAILED = 1          # something failed that is not the input's fault (a full disk, a bug)
 EXIT_BAD_INPUT = 2
@@ -391,9 +391,7 @@ COMMANDS = {"analytic": cmd_analytic, "bench": cmd_bench, "run": cmd_run, "sweep
 def _interrupted(command: str, signal_name: str) -> str | None:
     """The line that says what an interrupt left; None in an MPI rank but the first
     (rank 0 speaks for all)."""
-    from .batch import mpi
-
-    rank = mpi.launcher_rank()
+    rank = launcher_rank()
     if rank:
         return None
     how = "by SIGTERM" if signal_name == "SIGTERM" else "(Ctrl-C)"

@@ -7,6 +7,9 @@ into KeyboardInterrupt in the parent, and on the way out the parent terminates
 its workers rather than wait for their tasks (an FE run can take minutes). A
 task cut short must therefore leave nothing that looks finished: write its
 results with output.staged().
+
+Also: how many processes a sweep starts (worker_count), and this process's
+MPI rank as its launcher set it (launcher_rank: only rank 0 speaks).
 """
 
 import contextlib
@@ -53,6 +56,24 @@ def stop_if_interrupted() -> None:
     such a signal may have cut short."""
     if _received is not None:
         raise KeyboardInterrupt(_received)
+
+
+# This process's rank, as MPI launchers set it: Open MPI's mpirun, MPICH's Hydra, Slurm's srun
+# (PMI2, PMIx); batch.mpi reads the world itself from mpi4py.
+RANK_VARIABLES = ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK")
+
+
+def launcher_rank() -> int | None:
+    """This process's rank if an MPI launcher started it, else None: from the
+    launcher's variables alone, at once (the command's last words after an
+    interrupt, which must not wait for mpi4py or the batch package to load)."""
+    if os.environ.get("OMPI_MCA_ess") == "singleton":   # inherited, not a launcher's (batch.mpi.world)
+        return None
+    for variable in RANK_VARIABLES:
+        value = os.environ.get(variable, "")
+        if value.isdigit():
+            return int(value)
+    return None
 
 
 def default_workers() -> int:

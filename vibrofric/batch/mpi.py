@@ -17,22 +17,6 @@ import time
 LAUNCHER_VARIABLES = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK")
 
 
-# This rank's number, as the launchers above set it (read without mpi4py).
-RANK_VARIABLES = ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK")
-
-
-def launcher_rank() -> int | None:
-    """This process's rank if an MPI launcher started it, else None; from the
-    launcher's variables alone (a command interrupted while starting has no world)."""
-    if os.environ.get("OMPI_MCA_ess") == "singleton":   # see world()
-        return None
-    for variable in RANK_VARIABLES:
-        value = os.environ.get(variable, "")
-        if value.isdigit():
-            return int(value)
-    return None
-
-
 def world():
     """MPI.COMM_WORLD if an MPI launcher started this process, else None.
 
