@@ -19,16 +19,28 @@ from .scene import SceneError, check_key, coerce, parse_value
 class Range:
     """``count`` values from ``start`` to ``stop`` inclusive, evenly spaced: those of
     ``numpy.linspace(start, stop, count)`` bit for bit (the same float operations:
-    ``i * step + start``, the last value ``stop`` itself), one at a time."""
+    ``i * step + start``, the last value ``stop`` itself), one at a time.
+    ``key``: the scene key whose type each value is given (scene.coerce; a value
+    it cannot take left as given), for a key that does not hold floats."""
 
     start: float
     stop: float
     count: int
+    key: str | None = None
 
     def __len__(self) -> int:   # (Python's len() stops at 2**63: grid.grid_size reads count)
         return self.count
 
-    def __getitem__(self, i: int) -> float:
+    def __getitem__(self, i: int):
+        value = self._value(i)
+        if self.key is None:
+            return value
+        try:
+            return coerce(self.key, value)
+        except SceneError:
+            return value
+
+    def _value(self, i: int) -> float:
         if not -self.count <= i < self.count:
             raise IndexError(i)
         i %= self.count
@@ -83,8 +95,8 @@ def canonical_grid(grid):
     key given in two ``--grid`` options, or a value given twice, is refused.
 
     A value the scene cannot take is left as given: that point fails alone.
-    A Range stays one (its values are floats, as a float key holds them; for
-    a key of another type, a range of at most a few values is expanded as a list).
+    A Range stays one, counted and not expanded (grid_size): for a key that does
+    not hold floats, one that gives each value that key's type.
     """
     seen = set()
     canonical = []
@@ -93,10 +105,11 @@ def canonical_grid(grid):
             raise SceneError(key, "given in two --grid options; give all its values in one")
         seen.add(key)
         check_key(key)
-        if isinstance(values, Range) and _holds_floats(key, values):
+        if isinstance(values, Range):
             if values.count > 1 and values.start == values.stop:
                 raise SceneError(key, f"the grid gives the value {values.start!r} twice")
-            canonical.append((key, values))
+            floats = _holds_floats(key, values)
+            canonical.append((key, values if floats else Range(values.start, values.stop, values.count, key)))
             continue
         coerced = []
         for value in values:
