@@ -19,6 +19,9 @@ estimate in the message. The estimates are rough upper bounds:
             sub-steps, fem.integrators.explicit.explicit_substeps, at most
             fem.model.contact.MAX_SUBSTEPS), and the analytic stepper run beside
             at its own step (fe_beside_analytic.analytic_scene)
+
+A sweep's grid is checked as a whole too (check_grid), counted rather than
+expanded: the memory its planned points hold, the disk they write, its time.
 """
 
 import copy

@@ -330,10 +330,10 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
     sampled = _sample_scenes(scene, grid)
     planned_workers = comm.size if comm is not None else worker_count(
         workers, grid_size(grid), oversubscribe)[0]
+    budget.check(sampled, mode == "fe", out, series=mode == "fe")  # one run's needs, its key named
     needs = budget.check_grid(grid, sampled, mode == "fe", out, planned_workers)
     if leader:
         announce(budget.long_sweep_notice(needs, planned_workers))
-    budget.check(sampled, mode == "fe", out, series=mode == "fe")  # one run's needs
     ledger = Ledger(plan(scene, grid, out / "points"), mode, out)
     if fresh and leader and out.exists():
         output.remove(out)
