@@ -13,7 +13,7 @@ import time
 import pytest
 from conftest import child_environment
 
-from vibrofric.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_POINTS_FAILED, main
+from vibrofric.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_POINTS_FAILED, EXIT_TERMINATED, main
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SCENE = str(ROOT / "scenes" / "longitudinal.toml")
@@ -125,6 +125,69 @@ def test_mpirun_on_two_ranks_gives_the_serial_results(serial, tmp_path):
     assert without_timing(results(out)) == without_timing(results(serial))
 
 
+MPI_ENVIRONMENT = dict(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                       OMPI_MCA_rmaps_base_oversubscribe="1")   # see the test above
+
+
+@pytest.mark.skipif(mpi_launcher() is None, reason="no mpirun")
+def test_mpirun_sweeps_by_continuation_give_the_results_of_one_worker(tmp_path):
+    """The ranks work the same lanes (batch/lanes.py): results.csv equals one worker's."""
+    runs = {}
+    for name, launcher, more in [("one", [], ["--workers", "1"]), ("mpi", [mpi_launcher(), "-n", "2"], [])]:
+        out = tmp_path / name
+        done = subprocess.run([*launcher, *command(["sweep", SCENE, "--grid", "vibration.k_v=0:20:6",
+                                                    "--out", str(out), *more])],
+                              env=child_environment(**MPI_ENVIRONMENT), cwd=ROOT, capture_output=True,
+                              text=True, timeout=300)
+        assert done.returncode == 0, done.stderr
+        runs[name] = without_timing(results(out))
+    assert runs["mpi"] == runs["one"]
+
+
+@pytest.mark.skipif(mpi_launcher() is None or "Open MPI" not in subprocess.run(
+    [mpi_launcher() or "true", "--version"], capture_output=True, text=True).stdout, reason="no Open MPI")
+@pytest.mark.parametrize("how", [signal.SIGTERM, signal.SIGKILL])
+def test_mpirun_stopped_or_killed_takes_its_ranks_with_it(tmp_path, how):
+    """SIGTERM to Open MPI's mpirun (it sends its ranks SIGTERM, for SIGINT too, and exits 1
+    itself, whatever they return): one line from rank 0, no partial directory; SIGKILL to
+    it: its ranks end too (mpi.end_with_launcher), within seconds."""
+    out = tmp_path / "sweep"
+    args = ["sweep", str(ROOT / "scenes" / "coupled.toml"), "--grid", "vibration.k_v=0:20:41",
+            "--grid", "vibration.theta_deg=0:360:25", "--out", str(out)]
+    launcher = subprocess.Popen([mpi_launcher(), "-n", "2", *command(args)],
+                                env=child_environment(**MPI_ENVIRONMENT), cwd=ROOT,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not (out / "points").is_dir() or len(summary_times(out)) < 4:
+        assert launcher.poll() is None and time.monotonic() < deadline, launcher.stderr.read()
+        time.sleep(0.05)
+    launcher.send_signal(how)
+    launcher.wait(timeout=60)
+    err = launcher.stderr.read()
+    stopped = time.monotonic()
+    while processes_running(str(out)) and time.monotonic() < stopped + 10:
+        time.sleep(0.1)
+    assert processes_running(str(out)) == []
+    if how == signal.SIGTERM:
+        assert launcher.returncode == 1
+        assert err.count("vibrofric: sweep interrupted by SIGTERM (Open MPI's mpirun sends it") == 1, err
+        assert [p.name for p in (out / "points").iterdir() if p.name.startswith(".")] == []
+
+
+def test_the_rank_is_read_from_the_launchers_variables(monkeypatch):
+    """parallel.launcher_rank: Open MPI's, Hydra's or PMIx's variable; none outside a
+    launcher, nor under an inherited singleton (see batch.mpi.world)."""
+    from vibrofric.parallel import RANK_VARIABLES, launcher_rank
+
+    for variable in (*RANK_VARIABLES, "OMPI_MCA_ess"):
+        monkeypatch.delenv(variable, raising=False)
+    assert launcher_rank() is None
+    monkeypatch.setenv("PMI_RANK", "3")
+    assert launcher_rank() == 3
+    monkeypatch.setenv("OMPI_MCA_ess", "singleton")
+    assert launcher_rank() is None
+
+
 def kill_after_its_first_point(args, out) -> None:
     """Start the sweep, SIGTERM it as soon as a point has finished, and see it stop."""
     sweep = subprocess.Popen(command(args), env=child_environment(), cwd=ROOT,
@@ -134,7 +197,7 @@ def kill_after_its_first_point(args, out) -> None:
         assert sweep.poll() is None and time.monotonic() < deadline, sweep.stderr.read()
         time.sleep(0.01)
     sweep.send_signal(signal.SIGTERM)
-    assert sweep.wait(timeout=60) == EXIT_INTERRUPTED, sweep.stderr.read()
+    assert sweep.wait(timeout=60) == EXIT_TERMINATED, sweep.stderr.read()
 
 
 def test_a_killed_sweep_resumes_without_rerunning_finished_points(serial, tmp_path):
@@ -186,6 +249,33 @@ def test_a_killed_pool_stops_its_workers_and_resumes(tmp_path):
     whole = tmp_path / "whole"
     assert main(pool_sweep(whole)) == 0
     assert without_timing(results(out)) == without_timing(results(whole))
+
+
+def as_in_a_terminal():
+    """Ctrl-C as a command started from a terminal has it (a test run in the
+    background inherits it ignored)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.mark.parametrize("how, code", [(signal.SIGINT, EXIT_INTERRUPTED), (signal.SIGTERM, EXIT_TERMINATED)])
+def test_an_interrupted_pool_leaves_no_partial_directory(tmp_path, how, code):
+    """Ctrl-C or SIGTERM to a two-worker sweep while both workers are inside a point
+    (an analytic point stages its directory for its whole run: ~0.1 s stepped to
+    T = 2 s): the workers end, their staged directories are cleared on the way out,
+    and the exit code is 128 + the signal's number."""
+    out = tmp_path / "sweep"
+    args = ["sweep", SCENE, "--set", "time.T=2", "--set", "time.method=transient",
+            "--grid", "vibration.theta_deg=0:348:30", "--out", str(out), "--workers", "2"]
+    sweep = subprocess.Popen(command(args), env=child_environment(), cwd=ROOT, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.PIPE, text=True, preexec_fn=as_in_a_terminal)
+    deadline = time.monotonic() + 120
+    while not (out / "points").is_dir() or not summary_times(out):
+        assert sweep.poll() is None and time.monotonic() < deadline, sweep.stderr.read()
+        time.sleep(0.01)
+    sweep.send_signal(how)
+    assert sweep.wait(timeout=60) == code, sweep.stderr.read()
+    assert [p.name for p in (out / "points").iterdir() if p.name.startswith(".")] == []
+    assert len(results(out)) == len(summary_times(out)) >= 1
 
 
 def test_an_invalid_point_fails_alone_and_is_reported(tmp_path):
@@ -280,90 +370,245 @@ def test_command_line_mistakes_are_refused_before_any_work(tmp_path, capsys, mis
     assert list(tmp_path.iterdir()) == []
 
 
-def run_lanes(tmp_path, monkeypatch, workers, completion_order):
-    """_run_by_continuation on a 4 x 2 grid with a pool that finishes its tasks in the
-    order ``completion_order`` picks from those in flight; each point's "orbit" is its
-    name. Returns (the ledger, the points in the order they ran, {point: the start it
-    was given}, the tasks in flight at each moment, the points reported finished,
-    {point: its lane})."""
+def test_a_sweep_by_continuation_gives_the_same_results_however_it_is_run(tmp_path):
+    """Six k_v points by their periodic orbits (two lanes): one worker, two workers twice,
+    and vibrofric.sweep in memory give the same numbers bit for bit, timing aside. (Before
+    the lanes were a function of the grid alone, two-worker runs differed from each other
+    by up to 5e-12 and from one worker by 6.7e-9: each point's Newton start depended on
+    the pool's timing.)"""
+    from vibrofric import api
+
+    def run(name, workers):
+        out = tmp_path / name
+        args = ["sweep", SCENE, "--grid", "vibration.k_v=0:20:6", "--out", str(out), "--workers", workers]
+        assert main(args) == 0
+        return without_timing(results(out))
+
+    one = run("one", "1")
+    assert run("two", "2") == one and run("two-again", "2") == one
+    table = api.sweep(api.load_scene("longitudinal"), {"vibration.k_v": [0, 4, 8, 12, 16, 20]})
+    assert [float(r["F_dv_over_F_d0"]) for r in one] == list(table["F_dv_over_F_d0"])
+    assert sum(r["periodic.method"] == "periodic" for r in one) >= 4   # continuation was used
+
+
+@pytest.mark.slow
+def test_an_fe_sweep_by_continuation_gives_the_same_results_on_one_worker_and_two(tmp_path):
+    """Six FE points by their periodic orbits (tiny mesh, reduced; two lanes): one worker
+    and two give the same results.csv bit for bit, timing aside (~10 s once compiled)."""
+    runs = []
+    for workers in ("1", "2"):
+        out = tmp_path / workers
+        done = vibrofric(["sweep", SCENE, "--fe", "--set", "fem.mesh=tiny", "--set", "fem.output_every=0",
+                          "--set", "fem.integrator=reduced", "--set", "time.dt=1e-5", "--set", "time.T=0.3",
+                          "--grid", "vibration.k_v=2:12:6", "--out", str(out), "--workers", workers])
+        assert done.returncode == 0, done.stderr
+        assert "6 answered by their periodic orbit" in done.stderr
+        runs.append(without_timing(results(out)))
+    assert runs[0] == runs[1]
+
+
+def test_a_sweep_over_the_law_and_another_key_runs_every_point(tmp_path):
+    """contact.law with k_v: each law's points are a lane of their own (an orbit's state
+    has the law's size: a LuGre point started from a Dahl orbit failed with 'operands
+    could not be broadcast'), on one worker and on two."""
+    law = str(ROOT / "examples" / "laws" / "jenkins.py")
+    for workers in ("1", "2"):
+        out = tmp_path / workers
+        args = ["sweep", SCENE, "--grid", f"contact.law=dahl,lugre,{law}", "--grid", "vibration.k_v=2,6",
+                "--out", str(out), "--workers", workers]
+        assert main(args) == 0
+        rows = results(out)
+        assert len(rows) == 6 and all(r["error"] == "" for r in rows)
+    assert without_timing(results(tmp_path / "1")) == without_timing(results(tmp_path / "2"))
+
+
+def test_workers_are_never_more_than_the_points_or_the_cores_unless_asked_twice(monkeypatch):
+    """parallel.worker_count on a machine of 2 cores: never more processes than tasks that
+    can run side by side, nor than the cores without oversubscribe, nor than fit in memory;
+    a line says why, when fewer than asked for run."""
+    from vibrofric import parallel
+
+    monkeypatch.setattr(parallel, "cores", lambda: 2)
+    count, note = parallel.worker_count(100000, 2, what="points")
+    assert note == "vibrofric: --workers 100000: 2 processes, as the sweep has 2 points to run side by side"
+    assert count == 2
+    count, note = parallel.worker_count(5, 10)
+    assert count == 2 and "2 cores" in note and "--oversubscribe" in note
+    assert parallel.worker_count(5, 10, oversubscribe=True) == (5, None)
+    assert parallel.worker_count(5, 3, oversubscribe=True)[0] == 3
+    count, note = parallel.worker_count(5, 10, True, worker_bytes=2**30, available=3 * 2**30)
+    assert count == 3 and "memory" in note
+    assert parallel.worker_count(None, 10) == (2, None)       # the default: both cores, said nothing
+    assert parallel.worker_count(None, 1) == (1, None)
+
+
+def test_a_sweep_asked_for_more_workers_than_points_runs_as_many_as_it_can_and_says_so(tmp_path, capsys):
+    """--workers 100000 on two points (stepped: each point on its own) starts two
+    processes, says so in one line, and gives the serial results."""
+    out = tmp_path / "many"
+    assert main(analytic_sweep(out, "--set", "time.method=transient", "--workers", "100000")) == 0
+    err = capsys.readouterr().err
+    assert "vibrofric: --workers 100000: 2 processes, as the sweep has 2 points to run side by side" in err
+    serial = tmp_path / "serial"
+    assert main(analytic_sweep(serial, "--set", "time.method=transient", "--workers", "1")) == 0
+    assert without_timing(results(out)) == without_timing(results(serial))
+    capsys.readouterr()
+    over = tmp_path / "over"   # three points, three processes even on two cores: asked twice
+    args = ["sweep", SCENE, "--set", "time.T=0.2", "--set", "time.method=transient",
+            "--grid", "vibration.k_v=2,6,20", "--out", str(over), "--workers", "3", "--oversubscribe"]
+    assert main(args) == 0
+    assert "--workers" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("count", ["1000000000", "10000000000000000000000"])
+def test_a_grid_too_large_is_refused_in_one_line_before_it_is_expanded(tmp_path, count):
+    """A range of 1e9 or 1e22 values is counted, not made (grid.Range): refused in one line
+    naming the grid and what it would take, exit 2, nothing written, in seconds and without
+    the memory a list of its values would take (1e9 floats: 24 GB before; the child's peak
+    is allowed 1 GB, several times what the command needs to load)."""
+    import os
+
+    grid = f"vibration.k_v=0:20:{count}"
+    child = subprocess.Popen(command(["sweep", SCENE, "--grid", grid, "--out", str(tmp_path / "never")]),
+                             env=child_environment(), cwd=ROOT, stderr=subprocess.PIPE, text=True)
+    started = time.monotonic()
+    _, status, usage = os.wait4(child.pid, 0)
+    seconds = time.monotonic() - started
+    child.returncode = os.waitstatus_to_exitcode(status)
+    err = child.stderr.read().strip().splitlines()
+    assert child.returncode == EXIT_BAD_INPUT and len(err) == 1, err
+    assert err[0].startswith(f"vibrofric: invalid scene: --grid {grid}: {int(count):,} points would take")
+    assert "of disk" in err[0] and "of computing on" in err[0]
+    assert usage.ru_maxrss < 2**20      # KiB: 1 GiB
+    assert seconds < 60                 # the command's imports, under load; the check itself is instant
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_long_sweep_is_announced_and_a_short_one_is_not(tmp_path):
+    """budget.check_grid's estimate of a million-point grid passes (it fits) and is
+    announced in one line; the Fig 6 grid of 41 points says nothing."""
+    from vibrofric import budget
+    from vibrofric import scene as scenes
+    from vibrofric.grid import Range
+
+    base = scenes.load(pathlib.Path(SCENE))
+    needs = budget.check_grid([("vibration.k_v", Range(0.0, 20.0, 10**6))], [base], False, tmp_path, 2)
+    notice = budget.long_sweep_notice(needs, 2)
+    assert needs["points"] == 10**6 and notice.startswith("vibrofric: a sweep of 1,000,000 points")
+    assert "\n" not in notice and "of computing on 2 processes" in notice
+    short = budget.check_grid([("vibration.k_v", Range(0.0, 20.0, 41))], [base], False, tmp_path, 2)
+    assert budget.long_sweep_notice(short, 2) is None
+
+
+def test_grid_ranges_are_numpys_linspace_value_for_value():
+    """grid.Range computes each value as numpy.linspace does (point names depend on it)."""
+    import numpy as np
+
+    from vibrofric.grid import Range, parse_grid
+
+    for start, stop, count in [(0, 20, 41), (0, 360, 25), (0.1, 0.7, 13), (1e-3, 3.3, 7), (2, 2, 1),
+                               (5, -3, 9)]:
+        expected = [float(v) for v in np.linspace(start, stop, count)]
+        assert list(Range(float(start), float(stop), count)) == expected
+    assert parse_grid("vibration.k_v=0:20:1e22")[1][-1] == 20.0
+
+
+def test_the_summary_line_counts_every_point_by_how_it_was_answered(tmp_path):
+    """A grid over time.method: the points stepped because their scene said transient are
+    counted as stepped, beside those whose orbit did not answer: every point is counted."""
+    from vibrofric.batch.study import Outcome
+
+    stepped = {"periodic": {"method": "transient", "reason": "no stable orbit"}}
+    records = [{"time.method": "transient"}, {"time.method": "periodic", "periodic": {"method": "periodic"}},
+               {"time.method": "auto", **stepped}, {"time.method": "auto", "error": "invalid scene: ..."}]
+    line = Outcome(records, ["time.method"], tmp_path, 0, 1.0, True).summary_line()
+    assert "; 1 answered by their periodic orbit, 2 stepped;" in line
+    only_stepped = Outcome(records[:1], ["time.method"], tmp_path, 0, 1.0, True).summary_line()
+    assert "periodic orbit" not in only_stepped
+
+
+def test_lanes_are_a_function_of_the_grid_alone():
+    """Lanes run along the last key between float values, at most LANE_POINTS long, cut
+    near-equally; a law (any value not a float) is never crossed: each such point is a
+    lane of its own, and a row of another key's value starts new lanes."""
+    from vibrofric.batch.lanes import LANE_POINTS, lanes
+    from vibrofric.grid import Range, canonical_grid, grid_points
+
+    def cut(*grid):
+        return lanes(list(grid_points(canonical_grid(list(grid)))))
+
+    assert LANE_POINTS == 4   # the cases below are written for it
+    assert cut(("vibration.k_v", Range(0.0, 20.0, 6))) == [[0, 1, 2], [3, 4, 5]]
+    assert cut(("vibration.k_v", Range(0.0, 20.0, 9))) == [[0, 1, 2], [3, 4, 5], [6, 7, 8]]
+    assert cut(("contact.law", ["dahl", "lugre"]), ("vibration.k_v", [2, 6])) == [[0, 1], [2, 3]]
+    assert cut(("vibration.k_v", [2, 6]), ("contact.law", ["dahl", "lugre"])) == [[0], [1], [2], [3]]
+
+
+def run_lanes(tmp_path, monkeypatch, workers, completion_order, finished_before=()):
+    """_run_by_continuation on a 2 x 6 grid (two rows of two lanes each) with a pool
+    that finishes its tasks in the order ``completion_order`` picks from those in flight;
+    each point's "orbit" is its name, and a point finished by an earlier run (named in
+    ``finished_before``) holds "disk:<name>". Returns (the points in grid order, {point:
+    the start it was given}, the most tasks in flight at once, the points reported)."""
     from vibrofric import scene as scenes
     from vibrofric.batch import study
     from vibrofric.batch.ledger import Ledger
     from vibrofric.batch.points import plan
 
     base = scenes.load(pathlib.Path(SCENE), ['time.method="periodic"'])
-    grid = [("vibration.k_v", [2.0, 3.0, 20.0, 6.0]), ("vibration.theta_deg", [0.0, 90.0])]
+    grid = [("vibration.theta_deg", [0.0, 90.0]), ("vibration.k_v", [2.0, 3.0, 4.0, 6.0, 12.0, 20.0])]
     ledger = Ledger(plan(base, grid, tmp_path / "points"), "fe", tmp_path)
-    ran, starts, in_flight, lanes = [], {}, [], {}
+    names = [point.name for point in ledger.points]
+    starts, flights = {}, []
 
     def pool(function, tasks, pool_workers, on_result):
         assert pool_workers == workers
         flight = list(tasks)
         while flight:
-            in_flight.append(len(flight))
+            flights.append(len(flight))
             task = flight.pop(completion_order(len(flight)))
-            point, _, start, lane = task
-            ran.append(point.name)
+            point, _, start, _ = task
             starts[point.name] = start
-            lanes[point.name] = lane
             flight.extend(on_result(task, point.name) or ())
 
+    def in_process(point, mode, start):
+        starts[point.name] = start
+        return point.name
+
     monkeypatch.setattr(study, "run_on_pool", pool)
+    monkeypatch.setattr(study, "run_point", in_process)
+    monkeypatch.setattr(study, "neighbour_orbit", lambda directory: f"disk:{directory.name}")
+    todo = [point for point in ledger.points if point.name not in finished_before]
     reported = []
-    study._run_by_continuation(ledger.points, ledger, "fe", workers, reported.append)
-    return ledger, ran, starts, in_flight, [point.name for point in reported], lanes
+    study._run_by_continuation(todo, ledger, "fe", workers, reported.append)
+    return names, starts, max(flights, default=1), [point.name for point in reported]
 
 
-@pytest.mark.parametrize("order", ["first", "last"])
-def test_two_workers_work_the_grid_from_both_ends_each_point_from_its_lanes_last(
-        tmp_path, monkeypatch, order):
-    """With two workers the grid is worked from both ends at once, a lane forward from
-    the first point and one back from the last, until they meet, whichever lane's points
-    end first; every point runs once, each lane's from the orbit of its point before, and
-    only the two first points start with none (nothing on disk yet)."""
+@pytest.mark.parametrize("workers, order", [(1, "first"), (2, "first"), (2, "last"), (3, "last"),
+                                            (9, "first")])
+def test_every_point_starts_from_its_lanes_point_before_however_many_workers(
+        tmp_path, monkeypatch, workers, order):
+    """Whatever the workers and whichever task ends first: every point runs once, from
+    the orbit of the point before it in its lane (lanes.py: here [0 1 2] [3 4 5] of each
+    row), a lane's first from none; no more lanes at once than workers."""
     pick = (lambda n: 0) if order == "first" else (lambda n: n - 1)
-    ledger, ran, starts, in_flight, reported, lanes = run_lanes(tmp_path, monkeypatch, 2, pick)
-    names = [point.name for point in ledger.points]
-    assert sorted(ran) == sorted(names) and sorted(reported) == sorted(names)
-    assert set(in_flight[:-1]) == {2}             # both lanes busy until they meet
-    forward = [k for k, name in enumerate(names) if lanes[name] == lanes[names[0]]]
-    assert forward == list(range(len(forward)))   # the lanes meet: one prefix, one suffix
-    expected = [(names[k - 1] if k > 0 else None) if k in forward else
-                (names[k + 1] if k + 1 < len(names) else None) for k in range(len(names))]
-    assert [starts[name] for name in names] == expected
+    names, starts, most, reported = run_lanes(tmp_path, monkeypatch, workers, pick)
+    assert sorted(reported) == sorted(names)
+    firsts = {0, 3, 6, 9}
+    assert [starts[name] for name in names] == [
+        None if k in firsts else names[k - 1] for k in range(len(names))]
+    assert most <= workers
 
 
-def test_one_worker_runs_the_grid_in_order_in_this_process(tmp_path, monkeypatch):
-    """With one worker: no pool, every point in grid order from the one before."""
-    from vibrofric.batch import points as points_module
+def test_a_resumed_sweep_starts_from_the_orbits_its_finished_points_left(tmp_path, monkeypatch):
+    """A point whose lane's point before it was finished by an earlier run starts from
+    the orbit that one's directory holds, as it would have in one run."""
+    from vibrofric.grid import point_name
 
-    calls = []
-    monkeypatch.setattr(points_module, "run_point",
-                        lambda point, mode, start: calls.append((point.name, start)) or point.name)
-    ledger, ran, _, _, reported, _ = run_lanes(tmp_path, monkeypatch, 1, lambda n: 0)
-    names = [point.name for point in ledger.points]
-    assert ran == [] and reported == names
-    assert calls == list(zip(names, [None] + names[:-1]))
-
-
-def test_more_workers_cut_the_grid_into_segments_of_equal_expected_cost():
-    """Four workers: two segments, each worked from both ends, of about equal expected
-    cost (study.expected_cost: 1 + k_v); three: a segment from both ends with two thirds
-    of the cost and one worked forward alone with the rest."""
-    from types import SimpleNamespace
-
-    from vibrofric.batch import study
-
-    points = [SimpleNamespace(scene=SimpleNamespace(vibration=SimpleNamespace(k_v=k_v)))
-              for k_v in [2.0] * 10 + [20.0] * 4]          # costs 3 x 10, then 21 x 4: 114
-    cost = lambda segment: sum(map(study.expected_cost, segment.points))  # noqa: E731
-    two = study._segments(points, 4)
-    assert [both for _, both in two] == [True, True]
-    assert sum(len(s.points) for s, _ in two) == len(points)
-    assert abs(cost(two[0][0]) - cost(two[1][0])) <= 21      # within the costliest point
-    three = study._segments(points, 3)
-    assert [both for _, both in three] == [True, False]
-    assert abs(cost(three[0][0]) - 2 * 114 / 3) <= 21
+    done = {point_name({"vibration.theta_deg": 0.0, "vibration.k_v": 3.0})}
+    names, starts, _, reported = run_lanes(tmp_path, monkeypatch, 2, lambda n: 0, done)
+    assert sorted(reported) == sorted(set(names) - done)
+    assert starts[names[2]] == f"disk:{names[1]}" and starts[names[0]] is None
 
 
 def test_the_sweeps_time_left_leaves_out_each_workers_first_point(tmp_path):

@@ -259,3 +259,28 @@ def test_periodic_equals_the_settled_transient_over_the_papers_grids(load_scene,
         transient = solve(stepped, estimate=False)[1]["F_dv"]
         assert math.isclose(answer["F_dv"], transient, rel_tol=RELATIVE), (values, answer["F_dv"],
                                                                          transient)
+
+
+def test_the_averaging_window_is_checked_only_where_the_scene_is_stepped(monkeypatch):
+    """vibration.t_on = 0.99 s of time.T = 1 s leaves no room for the averaging window
+    (57 cycles, 14 ms): refused with time.method transient, which averages over it; under
+    auto the orbit answers and needs no window; where auto falls back to stepping (here an
+    orbit made not to converge), the run is refused then, naming the key and why."""
+    from types import SimpleNamespace
+
+    from vibrofric.analytic import solve as solve_module
+    from vibrofric.core.errors import WindowDoesNotFit
+    from vibrofric.scene import SceneError
+
+    with pytest.raises(SceneError, match="^time.T: 1 s is too short"):
+        scene_module.load(ROOT / "scenes" / "longitudinal.toml",
+                          ["vibration.t_on=0.99", 'time.method="transient"'])
+    late = scene_module.load(ROOT / "scenes" / "longitudinal.toml", ["vibration.t_on=0.99"])
+    assert late.time.method == "auto"
+    _, summary, orbit = solve_module.solve_with_orbit(late)
+    assert summary["periodic"]["method"] == "periodic" and orbit is not None
+    monkeypatch.setattr(solve_module, "find_orbit",
+                        lambda *args: SimpleNamespace(converged=False, stable=False))
+    with pytest.raises(WindowDoesNotFit, match="^no stable periodic orbit, so the scene is "
+                       "stepped.*the shortest T that works is 1.004 s"):
+        solve_module.solve_with_orbit(late)

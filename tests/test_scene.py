@@ -39,7 +39,7 @@ INVALID = [
     ("contact.F_s=-1", "contact.F_s"),
     ("fem.penalty=0", "fem.penalty"),
     ("time.average_cycles=-1", "time.average_cycles"),
-    ("time.average_cycles=100000", "time.average_cycles"),  # longer than T - t_on
+    ("time.average_cycles=100000", "time.average_cycles"),  # longer than T - t_on (stepped)
     ("body.mass='heavy'", "body.mass"),       # wrong type
     ("body.mass=true", "body.mass"),
     ("time.average_cycles=2.5", "time.average_cycles"),
@@ -51,8 +51,9 @@ INVALID = [
 
 @pytest.mark.parametrize("override,key", INVALID)
 def test_invalid_values_are_refused_naming_the_key(load_scene, override, key):
+    # stepped: the averaging window is checked only for a scene to be stepped through time.T
     with pytest.raises(SceneError) as err:
-        scene_module.load("scenes/longitudinal.toml", [override])
+        scene_module.load("scenes/longitudinal.toml", ['time.method="transient"', override])
     assert err.value.key == key
     assert str(err.value).startswith(key)
 
@@ -142,16 +143,17 @@ def test_a_key_for_no_law_or_another_law_is_refused(overrides, key, refused_key)
     assert refused_key(lambda: scene_module.load("scenes/longitudinal.toml", overrides)) == key
 
 
-@pytest.mark.parametrize("method", ["auto", "periodic", "transient"])
-def test_a_short_T_is_refused_with_the_shortest_T_that_works(method):
-    """time.T must hold the stepped run's averaging window after vibration.t_on (the fallback
-    of auto and periodic): a shorter T is refused naming the shortest one, which runs;
-    under auto and periodic the message says what T is for."""
+def test_a_short_T_is_refused_where_the_scene_is_stepped_naming_the_shortest_T():
+    """time.T must hold a stepped run's averaging window after vibration.t_on: under
+    time.method transient a shorter T is refused naming the shortest one, which runs.
+    Under auto and periodic the steady cycle needs no window: a short T runs (T ends
+    the written series), and only a fallback to stepping is refused, naming the same T
+    (tests/test_periodic.py)."""
     import vibrofric as vf
-    from vibrofric.scene.validation import shortest_T
+    from vibrofric.core.series import shortest_stepped_T
 
-    scene = scene_module.load("scenes/longitudinal.toml", [f'time.method="{method}"'])
-    shortest = float(f"{shortest_T(scene):.4g}")
+    scene = scene_module.load("scenes/longitudinal.toml", ['time.method="transient"'])
+    shortest = shortest_stepped_T(scene)
     # t_on and the window of the drive system's period (57 cycles at 4 kHz)
     assert shortest == pytest.approx(0.14 + 57 / 4000.0, abs=1e-4)
     for T in (0.1, 0.15, shortest - 1e-4):
@@ -159,8 +161,9 @@ def test_a_short_T_is_refused_with_the_shortest_T_that_works(method):
             scene.with_values({"time.T": T})
         assert err.value.key == "time.T"
         assert f"the shortest T that works is {shortest:g} s" in str(err.value)
-        assert ("the steady cycle is solved for directly" in str(err.value)) == \
-            (method != "transient")
     vf.run_analytic(scene.with_values({"time.T": shortest}))    # runs, without a refusal
+    for method in ("auto", "periodic"):
+        short = scene.with_values({"time.method": method, "time.T": 0.1})
+        assert vf.run_analytic(short).summary["periodic"]["method"] == "periodic"
     docs = (Path(__file__).resolve().parents[1] / "docs" / "periodic.md").read_text()
     assert f"({shortest:g} s on the shipped\nlongitudinal scene" in docs

@@ -178,8 +178,9 @@ def as_in_a_terminal():
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
-@pytest.mark.parametrize("how, said", [(signal.SIGINT, "(Ctrl-C)"), (signal.SIGTERM, "by SIGTERM")])
-def test_single_run_interrupted_in_its_time_loop_leaves_nothing(home, how, said):
+@pytest.mark.parametrize("how, said, code", [(signal.SIGINT, "(Ctrl-C)", 130),
+                                             (signal.SIGTERM, "by SIGTERM", 143)])
+def test_single_run_interrupted_in_its_time_loop_leaves_nothing(home, how, said, code):
     before = tree(home)
     run = subprocess.Popen([sys.executable, "-m", "vibrofric.cli", "run", LONGITUDINAL, *FE_SHORT,
                             "--set", "time.T=0.1", "--set", "fem.output_every=100", "--out", "R"],
@@ -188,7 +189,7 @@ def test_single_run_interrupted_in_its_time_loop_leaves_nothing(home, how, said)
     wait_for_frames(run, home, 5)  # 400 steps of the FE time loop run, frames on disk
     run.send_signal(how)
     _, err = run.communicate(timeout=120)
-    assert run.returncode == 130
+    assert run.returncode == code
     assert err.decode().strip().splitlines()[-1] == f"vibrofric: run interrupted {said}; nothing was written"
     time.sleep(0.5)  # what a writer's destructor might still do happens by now
     assert tree(home) == before
@@ -244,6 +245,7 @@ def alive(pid: int) -> bool:
 def test_sweep_workers_die_with_their_parent(home):
     sweep = subprocess.Popen([sys.executable, "-m", "vibrofric.cli", "sweep", LONGITUDINAL,
                               "--set", "time.T=300", "--set", "time.series_dt=0.01",
+                              "--set", "time.method=transient",   # stepped: minutes a point
                               "--grid", "vibration.k_v=2,3,4,6",
                               "--workers", "2", "--out", "S"],
                              cwd=home, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)

@@ -19,6 +19,9 @@ estimate in the message. The estimates are rough upper bounds:
             sub-steps, fem.integrators.explicit.explicit_substeps, at most
             fem.model.contact.MAX_SUBSTEPS), and the analytic stepper run beside
             at the scene's time.dt
+
+A sweep's grid is checked as a whole too (check_grid), counted rather than
+expanded: the memory its planned points hold, the disk they write, its time.
 """
 
 import copy
@@ -40,6 +43,12 @@ ESTIMATE_RUNS = 1 + 2 + 4          # a stepped analytic answer and its runs at d
 FE_STEP_SECONDS_PER_DOF = 6e-8     # explicit, coarse mesh: ~40 us for 720 DOFs
 FRICTION_UPDATE_SECONDS = 6e-8     # one law update of one node (fem.integrators.step_cost.COST["friction"])
 POINT_BYTES = 16_384               # a sweep point without series: scene.toml, summary.json, checks.json
+POINT_MEMORY = 8_192               # a sweep's memory a point of its grid: ~2.5 KB planned (its values,
+                                   # scene and name: 20,000 longitudinal points measured), its record
+                                   # and its scene.toml's text as read back on a resume
+PLAN_SECONDS = 1e-3                # making a point (its scene, checked) before any runs: ~0.6 ms measured
+POINT_SECONDS = 2e-3               # a sweep point's own writing and reading back, beside its run
+WORKER_BYTES = 300 * 2**20         # a pool worker: the interpreter, numpy, numba and the loops
 LONGEST_RUN_S = 30 * 86400         # refused beyond: a typo in time.T rather than a study
 LONG_RUN_S = 3600                  # announced beyond (long_run_notice): within reach, but long
 
@@ -121,7 +130,8 @@ def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) ->
         if scene.fem.output_every > 0:
             frames = scene.steps // scene.fem.output_every + 2
             disk += frames * (dofs // 3) * VTK_BYTES_PER_NODE
-    return {"steps": scene.steps, "rows": plan.rows, "dofs": dofs,
+    return {"steps": scene.steps, "rows": plan.rows, "full_rows": plan.steps - plan.full_from + 1,
+            "dofs": dofs,
             "memory": memory, "disk": disk, "seconds": seconds}
 
 
@@ -142,6 +152,15 @@ def check(scenes, fe: bool, out: Path, full_series: bool = False, series: bool =
             raise SceneError("fem.mesh", f"{scene.fem.mesh!r} has {worst['dofs']:,} degrees of "
                                          f"freedom: the FE model needs ~{_bytes(worst['memory'])} "
                                          f"of memory, and {_bytes(memory)} is available")
+        full = worst["full_rows"]
+        if full > worst["rows"] / 2:   # neither time.T nor time.series_dt changes these rows
+            raise SceneError("time.dt", f"{scene.time.dt:g} s keeps every step of the run's last "
+                                        f"{full * scene.time.dt:.3g} s (its two averaging windows "
+                                        f"of {scene.averaged_cycles} cycles, and the plotted ones): "
+                                        f"{full:.3g} rows, whose time series needs "
+                                        f"~{_bytes(worst['memory'])} of memory, and {_bytes(memory)} "
+                                        "is available: raise time.dt or average fewer cycles "
+                                        "(time.average_cycles)")
         raise SceneError("time.T", f"{scene.time.T:g} s at time.dt = {scene.time.dt:g} s is "
                                    f"{worst['steps']:.3g} steps, whose time series (a row every "
                                    f"time.series_dt = {scene.time.series_dt:g} s: {worst['rows']:.3g} "
@@ -159,6 +178,54 @@ def check(scenes, fe: bool, out: Path, full_series: bool = False, series: bool =
                                    f"{slowest['steps']:.3g} steps: ~{_duration(slowest['seconds'])} "
                                    f"of computing (refused beyond {_duration(LONGEST_RUN_S)})")
     return slowest["seconds"]
+
+
+def check_grid(grid, samples, fe: bool, out: Path, workers: int) -> dict:
+    """Refuse, before its points are made, a sweep over ``grid`` (grid.py: its
+    ranges are counted, not expanded) that cannot fit on this machine: the
+    memory the sweep holds for its points (POINT_MEMORY each, measured: a
+    planned point's values, scene, name and record), the disk its points
+    write (the costliest of ``samples``, scenes of points that bound the
+    grid's cost (grid.samples), times the points) or LONGEST_RUN_S of computing on
+    ``workers`` processes (the samples' mean seconds, and POINT_SECONDS, a
+    point). One line naming the grid and what it would take; SceneError under
+    the grid as its key. Returns {"points", "disk", "seconds"}: the estimates."""
+    from .grid import describe, grid_size
+
+    points = grid_size(grid)
+    needs = [estimate(scene, fe, series=fe) for scene in samples]
+    disk = points * max((need["disk"] for need in needs), default=POINT_BYTES)
+    seconds = points * (POINT_SECONDS + sum(need["seconds"] for need in needs) / max(len(needs), 1))
+    seconds /= max(1, workers)
+    memory = points * POINT_MEMORY
+    too_much = []
+    if memory > available_memory():
+        too_much.append(f"~{_bytes(memory)} of memory to plan them ({_bytes(available_memory())} "
+                        "is available)")
+    if disk > free_disk(out):
+        too_much.append(f"~{_bytes(disk)} of disk ({_bytes(free_disk(out))} is free under {out})")
+    if seconds > LONGEST_RUN_S:
+        too_much.append(f"~{_duration(seconds)} of computing on {workers} process"
+                        f"{'es' if workers > 1 else ''} (refused beyond {_duration(LONGEST_RUN_S)})")
+    if too_much:
+        raise SceneError(describe(grid), f"{points:,} points would take "
+                                         f"{', '.join(too_much)}: give fewer values")
+    return {"points": points, "disk": disk, "seconds": seconds}
+
+
+LONG_SWEEP_POINTS = 20_000   # a sweep of more points is announced: planning them takes seconds
+
+
+def long_sweep_notice(needs: dict, workers: int) -> str | None:
+    """One line announcing a sweep estimated beyond LONG_RUN_S, or of more than
+    LONG_SWEEP_POINTS points, else None."""
+    if needs["seconds"] <= LONG_RUN_S and needs["points"] <= LONG_SWEEP_POINTS:
+        return None
+    return (f"vibrofric: a sweep of {needs['points']:,} points, estimated at up to "
+            f"~{_duration(needs['seconds'])} of computing on {workers} process"
+            f"{'es' if workers > 1 else ''} and ~{_bytes(needs['disk'])} of disk; its points are "
+            f"made first (~{_duration(needs['points'] * PLAN_SECONDS)}). Ctrl-C stops it; "
+            "finished points are kept")
 
 
 def long_run_notice(seconds: float) -> str | None:

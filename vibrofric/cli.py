@@ -7,10 +7,11 @@ import sys
 
 def _interrupted_while_starting(signum, frame):
     """Ctrl-C or SIGTERM before the command has begun (while Python imports it or
-    reads its arguments): nothing is written yet, so it ends at once, exit 130, as
-    it would a moment later (main's interruptible() takes over from here)."""
+    reads its arguments): nothing is written yet, so it ends at once, exit 128 +
+    the signal's number (130, 143), as it would a moment later (main's
+    interruptible() takes over from here)."""
     os.write(2, b"vibrofric: interrupted while starting; nothing was written\n")
-    os._exit(130)
+    os._exit(128 + signum)
 
 
 if __name__ == "__main__" or os.path.basename(sys.argv[0]) == "vibrofric":  # the command's own process
@@ -35,13 +36,14 @@ from .answer_text import accuracy_warning, answer_with_error, value_with_error  
 from .core.errors import NumericalError, Refusal  # noqa: E402
 from .output import OutputError  # noqa: E402
 from .library_logs import quiet_libraries  # noqa: E402
-from .parallel import interruptible  # noqa: E402
+from .parallel import interruptible, launcher_rank  # noqa: E402
 
 EXIT_FAILED = 1          # something failed that is not the input's fault (a full disk, a bug)
 EXIT_BAD_INPUT = 2
 EXIT_NUMERICAL = 3
 EXIT_POINTS_FAILED = 4   # a sweep finished, but some of its points failed
-EXIT_INTERRUPTED = 130   # Ctrl-C or SIGTERM, as a shell reports SIGINT
+EXIT_INTERRUPTED = 130   # Ctrl-C, as a shell reports SIGINT (128 + 2)
+EXIT_TERMINATED = 143    # SIGTERM (128 + 15)
 FAILURES_LISTED = 10     # failed points named on stderr; results.csv has them all
 
 # At exit, leave every object to the end of the process instead of to the cyclic
@@ -141,7 +143,11 @@ def build_parser() -> argparse.ArgumentParser:
     sweep.add_argument("--fe", action="store_true",
                        help="run the FE model (and the analytic stepper) at every point")
     sweep.add_argument("--workers", type=_workers,
-                       help="processes, one run each (default: both cores; under mpirun: the ranks)")
+                       help="processes, one run each (default: both cores; never more than the "
+                            "points that can run side by side, nor than the cores without "
+                            "--oversubscribe; under mpirun: the ranks)")
+    sweep.add_argument("--oversubscribe", action="store_true",
+                       help="with --workers N: start N processes even beyond this machine's cores")
 
     bench = commands.add_parser("bench", help="speed against error of every method, side by side")
     _out_argument(bench, "directory for bench.md and bench.png")
@@ -370,7 +376,7 @@ def cmd_sweep(args) -> int:
         out, verdict = _locked_out(args, "sweep")
         fresh = verdict == "replace"
     outcome = run_sweep(scene, grid, "fe" if args.fe else "analytic", out, args.workers,
-                        fresh=fresh)
+                        fresh=fresh, oversubscribe=args.oversubscribe, announce=_announce)
     if outcome.leader:  # under mpirun, rank 0 speaks for all
         if args.json:
             print(json.dumps(outcome.records, indent=2))
@@ -437,8 +443,15 @@ COMMANDS = {"analytic": cmd_analytic, "bench": cmd_bench, "keys": cmd_keys, "run
             "sweep": cmd_sweep, "warm": cmd_warm}
 
 
-def _interrupted(command: str, signal_name: str) -> str:
+def _interrupted(command: str, signal_name: str) -> str | None:
+    """The line that says what an interrupt left; None in an MPI rank but the first
+    (rank 0 speaks for all)."""
+    rank = launcher_rank()
+    if rank:
+        return None
     how = "by SIGTERM" if signal_name == "SIGTERM" else "(Ctrl-C)"
+    if signal_name == "SIGTERM" and "OMPI_COMM_WORLD_SIZE" in os.environ:
+        how += " (Open MPI's mpirun sends it for a Ctrl-C too)"
     if command == "sweep":
         return (f"vibrofric: sweep interrupted {how}; the finished points are kept: rerun the "
                 "same command to resume")
@@ -519,8 +532,8 @@ def main(argv=None) -> int:
         with interruptible(), contextlib.ExitStack() as args.held:  # the locks of --out
             return COMMANDS[args.command](args) or 0
     except KeyboardInterrupt as interrupt:
-        print(_interrupted(args.command, str(interrupt)), file=sys.stderr)
-        return EXIT_INTERRUPTED
+        _announce(_interrupted(args.command, str(interrupt)))
+        return EXIT_TERMINATED if str(interrupt) == "SIGTERM" else EXIT_INTERRUPTED
     except OSError as err:
         if err.errno == errno.EPIPE:   # stdout's reader ended (| head): nothing more to say
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())   # (nor at exit)

@@ -7,6 +7,9 @@ into KeyboardInterrupt in the parent, and on the way out the parent terminates
 its workers rather than wait for their tasks (an FE run can take minutes). A
 task cut short must therefore leave nothing that looks finished: write its
 results with output.staged().
+
+Also: how many processes a sweep starts (worker_count), and this process's
+MPI rank as its launcher set it (launcher_rank: only rank 0 speaks).
 """
 
 import contextlib
@@ -55,32 +58,87 @@ def stop_if_interrupted() -> None:
         raise KeyboardInterrupt(_received)
 
 
+# This process's rank, as MPI launchers set it: Open MPI's mpirun, MPICH's Hydra, Slurm's srun
+# (PMI2, PMIx); batch.mpi reads the world itself from mpi4py.
+RANK_VARIABLES = ("OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK")
+
+
+def launcher_rank() -> int | None:
+    """This process's rank if an MPI launcher started it, else None: from the
+    launcher's variables alone, at once (the command's last words after an
+    interrupt, which must not wait for mpi4py or the batch package to load)."""
+    if os.environ.get("OMPI_MCA_ess") == "singleton":   # inherited, not a launcher's (batch.mpi.world)
+        return None
+    for variable in RANK_VARIABLES:
+        value = os.environ.get(variable, "")
+        if value.isdigit():
+            return int(value)
+    return None
+
+
 def default_workers() -> int:
     """Both cores of a workstation: one process per core, two at most by default,
     as FE runs on more processes than cores only slow each other down."""
-    return min(2, os.cpu_count() or 1)
+    return min(2, cores())
+
+
+def cores() -> int:
+    """The cores this process may run on (its CPU affinity: a batch job's share)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+def worker_count(requested: int | None, side_by_side: int, oversubscribe: bool | None = False,
+                 worker_bytes: int = 0, available: int | None = None, what: str = "tasks") -> tuple:
+    """(processes to start, a line saying why fewer than ``requested``, or None).
+
+    Never more than ``side_by_side`` (the tasks that can run at once, named
+    ``what`` in the line: more processes would wait idle), nor than this machine's cores unless
+    ``oversubscribe`` (asked twice: ``--workers N --oversubscribe``; None: it
+    cannot be asked for, as in vibrofric.sweep in memory), nor than fit in
+    ``available`` bytes of memory at ``worker_bytes`` each, whatever was
+    asked. The default (``requested`` None): default_workers().
+    """
+    wanted = requested or default_workers()
+    limits = [(max(1, side_by_side), f"the sweep has {side_by_side} {what} to run side by side")]
+    if not oversubscribe:
+        hint = " (add --oversubscribe to run more)" if oversubscribe is False else ""
+        limits.append((cores(), f"this machine has {cores()} cores{hint}"))
+    if worker_bytes and available is not None:
+        limits.append((max(1, available // worker_bytes),
+                       f"memory for {max(1, available // worker_bytes)} at ~"
+                       f"{worker_bytes / 2**20:.0f} MiB each is available"))
+    count, why = wanted, None
+    for limit, reason in limits:
+        if limit < count:
+            count, why = limit, reason
+    if requested is None or count == requested:
+        return count, None
+    return count, f"vibrofric: --workers {requested}: {count} process{'es' if count > 1 else ''}, as {why}"
 
 
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
 
 
-def _die_with(parent: int) -> None:
-    """End this worker when ``parent`` dies, however it dies (kill -9 included):
-    Linux's parent-death signal, and a check that the parent has not already
-    gone before it was set."""
+def die_with(parent: int, signum: int = signal.SIGKILL) -> None:
+    """Send this process ``signum`` when ``parent`` dies, however it dies (kill -9
+    included): Linux's parent-death signal; and end it now if the parent has
+    already gone before that was set."""
     if sys.platform.startswith("linux"):
         libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+        libc.prctl(PR_SET_PDEATHSIG, signum)
     if os.getppid() != parent:
         os._exit(1)
 
 
 def _worker_start(parent: int):
-    """In each worker: it dies with its parent (_die_with); Ctrl-C is the
+    """In each worker: it dies with its parent (die_with); Ctrl-C is the
     parent's to handle, and SIGTERM, which only the parent sends a worker, ends
     it at once (a forked worker would otherwise inherit interruptible()'s
     handler and carry on with its next task)."""
-    _die_with(parent)
+    die_with(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
@@ -98,12 +156,18 @@ def run_on_pool(function, tasks, workers: int, on_result) -> None:
     process at a time; ``on_result(task, result)`` in the parent as each ends,
     which may return further tasks (an iterable), run on the same pool.
 
-    An exception from a task, or an interrupt, ends the whole pool.
+    An exception from a task, or an interrupt, ends the whole pool: its workers
+    are terminated, and gone, before this returns (what they were writing is
+    then the caller's to clear: output.remove_partials). No more processes are
+    started than ``tasks`` (an on_result returns one task at most for the one it
+    was given, in every use here): Python starts a forked pool's every process at once.
     """
     import multiprocessing  # here: every command imports this module, few start a pool
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
-    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(_start_method()),
+    tasks = list(tasks)
+    pool = ProcessPoolExecutor(max(1, min(workers, len(tasks))),
+                               mp_context=multiprocessing.get_context(_start_method()),
                                initializer=_worker_start, initargs=(os.getpid(),))
     try:
         futures = {pool.submit(function, task): task for task in tasks}
@@ -115,8 +179,11 @@ def run_on_pool(function, tasks, workers: int, on_result) -> None:
                     futures[pool.submit(function, follow)] = follow
     except BaseException:
         # Python 3.14's ProcessPoolExecutor.terminate_workers() does this.
-        for process in list(pool._processes.values()):
+        processes = list(pool._processes.values())
+        for process in processes:
             process.terminate()
+        for process in processes:   # gone, so that nothing writes after this returns
+            process.join(timeout=5)
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown()

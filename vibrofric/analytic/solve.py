@@ -3,6 +3,7 @@
 
 from time import perf_counter
 
+from ..core.series import check_stepped_window
 from ..core.step_error import not_estimated
 from .accuracy import error_keys, no_ratio, periodic_error, stepped_error
 from .coupled import load_coupled, run_coupled
@@ -52,6 +53,7 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None, estimate: bool
 
             summary.update(_error(summary, scene, orbit.dt, periodic, estimate))
             return steady_series(orbit, scene), summary, orbit.z
+        check_stepped_window(scene, "no stable periodic orbit, so the scene is stepped through time.T: its ")
     LOADERS[stepper](scene)
     start_time = perf_counter()
     series = STEPPERS[stepper](scene)

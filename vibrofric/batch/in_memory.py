@@ -5,12 +5,15 @@ written. ``vibrofric sweep`` goes through study.run_sweep instead, which
 writes each point as it ends and resumes an interrupted sweep.
 """
 
+import warnings
+
 from tqdm import tqdm
 
-from ..analytic.continuation import chunks, run_in_sequence
+from ..analytic.continuation import run_in_sequence
 from ..analytic.solve import solve
 from ..grid import grid_points
-from ..parallel import default_workers, run_on_pool
+from ..parallel import run_on_pool, worker_count
+from .lanes import lanes
 
 
 def run_point(scene, values: dict) -> dict:
@@ -24,8 +27,8 @@ def _run_task(task):
     return run_point(scene, values)
 
 
-def _run_chunk(task):
-    """A contiguous run of grid points by continuation (analytic/continuation.py)."""
+def _run_lane(task):
+    """A lane of grid points by continuation (lanes.py, analytic/continuation.py)."""
     _, scene, points = task
     return [{**values, **summary} for values, summary in zip(points, run_in_sequence(scene, points))]
 
@@ -34,8 +37,10 @@ def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> lis
     """Run the analytic stepper at every grid point; results in grid order.
 
     Every point's scene is checked first: a bad value raises SceneError before any work.
+    ``workers`` processes (default: both cores), never more than the tasks that can
+    run side by side or than the cores (parallel.worker_count; a warning says so).
     """
-    points = grid_points(grid)
+    points = list(grid_points(grid))
     for values in points:
         scene.with_values(values)
     results = [None] * len(points)
@@ -44,16 +49,21 @@ def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> lis
             results[task[0]] = record
             bar.update()
 
-        workers = workers or default_workers()
         if scene.time.method == "transient":
             tasks = [(i, scene, values) for i, values in enumerate(points)]
-            run_on_pool(_run_task, tasks, workers, store)
-        else:   # periodic: each worker a contiguous run of the grid, by continuation
-            def store_chunk(task, records):
+            run_on_pool(_run_task, tasks, _workers(workers, len(tasks), "points"), store)
+        else:   # periodic or auto: the grid's lanes, each by continuation (as vibrofric sweep)
+            def store_lane(task, records):
                 for i, record in zip(task[0], records):
                     store((i,), record)
 
-            tasks = [(part, scene, [points[i] for i in part])
-                     for part in chunks(len(points), 4 * workers)]
-            run_on_pool(_run_chunk, tasks, workers, store_chunk)
+            tasks = [(lane, scene, [points[i] for i in lane]) for lane in lanes(points)]
+            run_on_pool(_run_lane, tasks, _workers(workers, len(tasks), "lanes of points"), store_lane)
     return results
+
+
+def _workers(requested, tasks: int, what: str) -> int:
+    count, note = worker_count(requested, tasks, oversubscribe=None, what=what)
+    if note:
+        warnings.warn(note.replace("vibrofric: --workers ", "workers="), stacklevel=3)
+    return count

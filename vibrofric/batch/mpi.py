@@ -8,6 +8,7 @@ and writes the sweep's own files at the end.
 """
 
 import os
+import signal
 import time
 
 # Set by the MPI launchers in every rank they start: Open MPI's mpirun, MPICH's
@@ -33,6 +34,20 @@ def world():
     from mpi4py import MPI
 
     return MPI.COMM_WORLD
+
+
+def end_with_launcher() -> None:
+    """SIGTERM this rank when the process that started it (mpirun, its daemon or
+    srun's step daemon) dies, even by SIGKILL: a rank left alone would run its
+    share to the end (and rank 0 wait for the others until a broken pipe).
+    SIGTERM, not SIGKILL: the rank stops as on any SIGTERM (parallel.interruptible),
+    its point in flight cleared. Not for a process without a launcher (its parent
+    is init: nothing to follow)."""
+    from ..parallel import die_with
+
+    parent = os.getppid()
+    if parent > 1:
+        die_with(parent, signal.SIGTERM)
 
 
 def share(points: list, comm) -> list:

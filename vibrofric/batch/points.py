@@ -75,7 +75,7 @@ def plan(scene, grid, directory: Path) -> list:
     refused (SceneError) before any work; a value that makes no valid scene is
     not: that point fails, the others run.
     """
-    values = grid_points(canonical_grid(grid))
+    values = list(grid_points(canonical_grid(grid)))
     points = []
     for name, point_values in zip(unique_names(values), values):
         try:
@@ -155,18 +155,6 @@ def run_point(point: Point, mode: str, start=None):
     return None
 
 
-def run_in_sequence(points: list, mode: str, start=None, finished=None) -> None:
-    """Run ``points`` one after the other in this process, each from the orbit of the
-    one before where that one's steady cycle answered (continuation), the first from
-    ``start``; ``finished(point)`` after each. FE points on one model share it
-    (fe_model.kept_between_runs)."""
-    with _model_kept(mode):
-        for point in points:
-            start = run_point(point, mode, start)
-            if finished is not None:
-                finished(point)
-
-
 def run_point_on_worker(task):
     """run_point((point, mode, start, ...)) on a pool's worker (a module-level function),
     which keeps its FE model between the points it is handed (fe_model.kept_for_this_process)."""
@@ -177,7 +165,9 @@ def run_point_on_worker(task):
     return run_point(point, mode, start)
 
 
-def _model_kept(mode: str):
+def model_kept(mode: str):
+    """FE points run one after another in this process share their model
+    (fe_model.kept_between_runs)."""
     if mode != "fe":
         return contextlib.nullcontext()
     from ..fem.model.fe_model import kept_between_runs

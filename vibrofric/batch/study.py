@@ -21,12 +21,12 @@ from tqdm import tqdm
 
 from .. import budget, output, plots
 from .. import scene as scene_module
-from ..grid import point_name
-from ..parallel import default_workers, interruptible, run_on_pool
+from ..grid import canonical_grid, grid_size, point_name, samples
+from ..parallel import interruptible, run_on_pool, worker_count
 from . import mpi
 from .ledger import Ledger
-from .points import (ERROR, neighbour_orbit, plan, run_in_sequence, run_point,
-                     run_point_on_worker)
+from .lanes import lanes
+from .points import ERROR, model_kept, neighbour_orbit, plan, run_point, run_point_on_worker
 
 RATIO = "F_dv_over_F_d0"
 
@@ -74,10 +74,12 @@ class Outcome:
         line = (f"sweep: {len(self.records)} points ({self.reused} reused{rerun}), "
                 f"{len(self.failed)} failed, {len(self.unsettled)} unsettled, {self.wall_time_s:.1f} s")
         methods = [method(r) for r in self.records if ERROR not in r]
-        methods = [m for m in methods if m is not None]
-        if methods:   # time.method periodic or auto (analytic/periodic.py, fem/integrators/periodic.py)
-            line += (f"; {methods.count('periodic')} answered by their periodic orbit, "
-                     f"{methods.count('transient')} stepped")
+        if any(m is not None for m in methods):
+            # some point's scene asked for its orbit (time.method periodic or auto:
+            # analytic/periodic.py, fem/integrators/periodic.py); a point stepped by its
+            # time.method (None) is stepped all the same
+            stepped = len(methods) - methods.count("periodic")
+            line += f"; {methods.count('periodic')} answered by their periodic orbit, {stepped} stepped"
         worst = self.worst_fe_error()
         if worst is not None:
             line += f"; worst |FE - analytic| / analytic {worst[0]:.2%} at {worst[1]}"
@@ -206,104 +208,85 @@ def _figures(ledger: Ledger, keys: list, scene, out: Path) -> None:
             draw(partial)
 
 
-def _run_by_continuation(todo: list, ledger: Ledger, mode: str, workers: int, finished) -> None:
-    """time.method periodic or auto: every point from the orbit of the point before it
-    in its lane (continuation). The points to run, in grid order, are cut into
-    ceil(workers / 2) segments of equal expected cost (expected_cost), and each segment
-    is worked from both ends at once: a lane walking forward from its first point, one
-    walking back from its last, until they meet. The lanes of a segment end within a
-    point of each other, so no worker is left alone with a costly stretch at the end,
-    and only a lane's first point starts without the orbit of the point before it
-    (from the one its grid neighbour left on disk, if that one has finished: a resumed
-    sweep). With one worker: one lane, in grid order, in this process."""
-    if not todo:
+def _run_by_continuation(todo: list, ledger: Ledger, mode: str, workers: int, finished,
+                         comm=None) -> None:
+    """time.method periodic or auto: the grid's lanes (lanes.py, a function of the grid
+    alone), each point from the orbit of the point before it in its lane: the one that
+    lane ran just before, or, where that one was finished by an earlier run (a resumed
+    sweep), the orbit its directory holds (points.neighbour_orbit); a lane's first
+    point from steady sliding. The lanes with points to run are worked side by side,
+    costliest first (expected_cost): on a pool of ``workers`` processes, in this
+    process with one, or shared out across the MPI ranks of ``comm``."""
+    work = _lanes_to_run(todo, ledger)
+    if comm is not None or workers == 1 or len(work) == 1:
+        with model_kept(mode):
+            for lane in work if comm is None else work[comm.rank::comm.size]:
+                _run_lane(lane, mode, finished)
         return
-    order = {point.name: k for k, point in enumerate(ledger.points)}
+    waiting = list(range(len(work) - 1, -1, -1))   # lane indices, popped from the end
 
-    def disk_orbit(point, side: int):
-        """The orbit the point's grid neighbour on ``side`` (-1: before it, 1: after it)
-        left on disk, if that one has finished (points.neighbour_orbit), else None."""
-        k = order[point.name] + side
-        return neighbour_orbit(ledger.points[k].directory) if 0 <= k < len(order) else None
-
-    if workers == 1 or len(todo) == 1:
-        run_in_sequence(todo, mode, disk_orbit(todo[0], -1), finished)
-        return
-    lanes = [_Lane(segment, forward)
-             for segment, both in _segments(todo, workers)
-             for forward in ((True, False) if both else (True,))]
-
-    def next_task(k: int):
-        lane = lanes[k]
-        point = lane.segment.take(lane.forward)
-        if point is None:
-            return []
-        start = lane.orbit if lane.started else disk_orbit(point, -1 if lane.forward else 1)
-        lane.started = True
-        return [(point, mode, start, k)]
+    def next_task(k, orbit=None):
+        """Lane k's next point to run, or else the next waiting lane's first, as a task."""
+        while k is not None:
+            step = work[k].next_step(orbit)
+            if step is not None:
+                return [(step[0], mode, step[1], k)]   # the lane's index: tasks are pickled
+            k, orbit = (waiting.pop() if waiting else None), None
+        return []
 
     def done(task, orbit):
         finished(task[0])
-        lanes[task[3]].orbit = orbit
-        return next_task(task[3])
+        return next_task(task[3], orbit)
 
-    first = [task for k in range(len(lanes)) for task in next_task(k)]
+    first = [task for _ in range(min(workers, len(work))) for task in next_task(waiting.pop())]
     run_on_pool(run_point_on_worker, first, workers, done)
 
 
-@dataclass
-class _Segment:
-    """A contiguous run of the points to run, taken from its front and its back."""
-
-    points: list
-    front: int = 0
-    back: int = -1
-
-    def __post_init__(self):
-        self.back = len(self.points) - 1
-
-    def take(self, forward: bool):
-        """The next point from the front (or the back), or None once both ends have met."""
-        if self.front > self.back:
-            return None
-        if forward:
-            self.front += 1
-            return self.points[self.front - 1]
-        self.back -= 1
-        return self.points[self.back + 1]
-
-
-@dataclass
 class _Lane:
-    """One walk through a segment: its direction and the orbit of its last point."""
+    """One lane's points in lane order, those to run marked, walked once."""
 
-    segment: _Segment
-    forward: bool
-    orbit: object = None
-    started: bool = False
+    def __init__(self, points: list, to_run: set):
+        self.points = points
+        self.to_run = to_run
+        self.position = -1          # of the point last handed out
+
+    @property
+    def cost(self) -> float:
+        return sum(expected_cost(p) for p in self.points if p.name in self.to_run)
+
+    def next_step(self, orbit=None):
+        """(point, start) for the lane's next point to run, or None at its end.
+        ``orbit``: what the point handed out last returned."""
+        ran = self.position
+        self.position += 1
+        while self.position < len(self.points) and self.points[self.position].name not in self.to_run:
+            self.position += 1
+        if self.position == len(self.points):
+            return None
+        if self.position == 0:
+            start = None
+        elif self.position - 1 == ran:
+            start = orbit
+        else:   # its neighbour was finished by an earlier run
+            start = neighbour_orbit(self.points[self.position - 1].directory)
+        return self.points[self.position], start
 
 
-def _segments(todo: list, workers: int) -> list:
-    """(segment, worked from both ends) for ``workers`` lanes: workers // 2 segments
-    worked from both ends and, for an odd number, one from its front alone, each
-    with a share of the expected cost in proportion to its lanes."""
-    lanes = [2] * (workers // 2) + [1] * (workers % 2)
-    costs = [expected_cost(point) for point in todo]
-    total = sum(costs) or 1.0
-    segments, first, spent, share = [], 0, 0.0, 0.0
-    for k, count in enumerate(lanes):
-        share += count / workers
-        last = first
-        if k == len(lanes) - 1:
-            last = len(todo)
-        else:
-            while last < len(todo) and spent + costs[last] <= share * total:
-                spent += costs[last]
-                last += 1
-        if last > first:
-            segments.append((_Segment(todo[first:last]), count == 2))
-        first = last
-    return segments
+def _run_lane(lane: _Lane, mode: str, finished) -> None:
+    """A lane's points one after the other in this process."""
+    orbit = None
+    while (step := lane.next_step(orbit)) is not None:
+        orbit = run_point(step[0], mode, step[1])
+        finished(step[0])
+
+
+def _lanes_to_run(todo: list, ledger: Ledger) -> list:
+    """The grid's lanes that hold points to run, costliest first (grid order among equals)."""
+    to_run = {point.name for point in todo}
+    found = [_Lane([ledger.points[i] for i in lane], to_run)
+             for lane in lanes([point.values for point in ledger.points])]
+    return sorted((lane for lane in found if any(p.name in to_run for p in lane.points)),
+                  key=lambda lane: -lane.cost)
 
 
 def expected_cost(point) -> float:
@@ -317,17 +300,23 @@ def expected_cost(point) -> float:
     return 1.0 + point.scene.vibration.k_v
 
 
-def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = False) -> Outcome:
+def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = False,
+              oversubscribe: bool = False, announce=None) -> Outcome:
     """Run ``mode`` ("analytic" or "fe") at every point of ``grid`` into ``out``
     (default results/<scene>-sweep-<time>/), resuming what is there, on
-    ``workers`` processes (default: both cores) or, under mpirun, the ranks;
-    ``fresh``: replace what ``out`` holds instead of resuming it.
+    ``workers`` processes (default: both cores; never more than can run side by
+    side, nor than the cores unless ``oversubscribe``: parallel.worker_count) or,
+    under mpirun, the ranks; ``fresh``: replace what ``out`` holds instead of
+    resuming it; ``announce(line)``: told of a long sweep and of fewer workers
+    than asked for (default: nothing said).
 
     Raises SceneError before any work if the grid names an unknown key or a
-    point twice; KeyboardInterrupt on Ctrl-C or SIGTERM, with every finished
-    point kept and results.csv rewritten from them.
+    point twice, or cannot fit on this machine (budget.check_grid, before its
+    points are made); KeyboardInterrupt on Ctrl-C or SIGTERM, with every finished
+    point kept, results.csv rewritten from them and no partial directory left.
     """
     start = time.perf_counter()
+    announce = announce or (lambda line: None)
     keys = [key for key, _ in grid]
     comm = mpi.world()
     leader = comm is None or comm.rank == 0
@@ -335,10 +324,17 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         out = output.default_dir(f"{scene.name}-sweep")
     if comm is not None:
         out = comm.bcast(out, root=0)  # rank 0's time stamp in the default name
+        mpi.end_with_launcher()
     out = Path(out)
+    grid = canonical_grid(grid)
+    sampled = _sample_scenes(scene, grid)
+    planned_workers = comm.size if comm is not None else worker_count(
+        workers, grid_size(grid), oversubscribe)[0]
+    budget.check(sampled, mode == "fe", out, series=mode == "fe")  # one run's needs, its key named
+    needs = budget.check_grid(grid, sampled, mode == "fe", out, planned_workers)
+    if leader:
+        announce(budget.long_sweep_notice(needs, planned_workers))
     ledger = Ledger(plan(scene, grid, out / "points"), mode, out)
-    budget.check([p.scene for p in ledger.points if p.scene is not None], mode == "fe", out,
-                 series=mode == "fe")  # an analytic point keeps its summary alone (points.py)
     if fresh and leader and out.exists():
         output.remove(out)
     elif out.exists():
@@ -348,7 +344,15 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         todo = comm.bcast(todo, root=0)  # rank 0's reading of the directories, for all
     todo = [ledger.points[i] for i in todo]
     reused = len(ledger.points) - len(todo)
-    workers = workers or default_workers()
+    continued = scene.time.method != "transient"
+    if comm is None:
+        side_by_side = len(_lanes_to_run(todo, ledger)) if continued else len(todo)
+        worker_bytes = budget.WORKER_BYTES + max(
+            (budget.estimate(s, mode == "fe", series=False)["memory"] for s in sampled), default=0)
+        workers, note = worker_count(workers, side_by_side, oversubscribe, worker_bytes,
+                                     budget.available_memory(),
+                                     "lanes of points" if continued else "points")
+        announce(note)
     # each worker's (or rank's) first point loads or compiles its loops: not in the rate
     bar = Progress(ledger, enabled=leader, warm_up=comm.size if comm is not None else workers)
 
@@ -359,21 +363,27 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         bar.update()
 
     run = functools.partial(run_point, mode=mode)
-    continued = scene.time.method != "transient" and comm is None
     try:
         with interruptible():
             if continued:
-                _run_by_continuation(todo, ledger, mode, workers, finished)
-            elif comm is None and workers > 1 and len(todo) > 1:
+                _run_by_continuation(todo, ledger, mode, workers, finished, comm)
+            elif comm is None and workers > 1:
                 run_on_pool(run, todo, workers, finished)
             else:
                 for point in todo if comm is None else mpi.share(todo, comm):
                     run(point)
                     finished(point)
-                if comm is not None:
-                    mpi.wait_for_all(comm)
+            if comm is not None:
+                mpi.wait_for_all(comm)
     finally:
-        ledger.read()
+        if comm is None:   # the pool's workers are gone: what they were writing goes too
+            output.remove_partials(out / "points")
+            # the points this process has not read yet (one whose result was on its way
+            # when the sweep stopped): reading every directory again would keep Ctrl-C
+            # waiting 0.7 s at 500 points (each one's checks.json verified)
+            ledger.read([point for point in todo if point.name not in ledger.records])
+        else:   # the other ranks' points
+            ledger.read()
         if leader:
             ledger.write_csv()
         bar.update()
@@ -382,3 +392,15 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
         _figures(ledger, keys, scene, out)
     return Outcome(ledger.in_grid_order(), keys, out, reused,
                    time.perf_counter() - start, leader, len(ledger.damaged))
+
+
+def _sample_scenes(scene, grid) -> list:
+    """The scenes of the grid's samples (grid.samples) that make one: what bounds a
+    point's cost, estimated before the grid is expanded."""
+    scenes = []
+    for values in samples(grid):
+        try:
+            scenes.append(scene.with_values(values))
+        except scene_module.SceneError:
+            pass   # that point will fail alone
+    return scenes

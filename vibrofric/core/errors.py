@@ -32,3 +32,8 @@ class NoEnergyBalance(Refusal):
 
 class ReductionFailed(Refusal):
     """The reduced model could not be checked against the full one."""
+
+
+class WindowDoesNotFit(Refusal):
+    """A scene to be stepped whose averaging window does not fit between the
+    vibration's onset and its end (core.series.check_stepped_window)."""

@@ -9,9 +9,12 @@ written(): at least ROWS_PER_CYCLE a vibration cycle, and every step of the
 last PLOT_CYCLES cycles; with --full-series every kept row.
 """
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from .errors import WindowDoesNotFit
 
 COLUMNS = ("t", "F_d", "F_x", "F_y", "x", "y", "x_b", "y_b")
 PLOT_CYCLES = 4  # cycles shown at full resolution in the F_x, F_y plot
@@ -123,6 +126,31 @@ def averaging_steps(scene) -> int:
     A scene without vibration averages over as many cycles of ``vibration.f``.
     """
     return max(1, int(round(scene.averaged_cycles / (scene.vibration.f * scene.time.dt))))
+
+
+def shortest_stepped_T(scene) -> float:
+    """The shortest time.T that holds a stepped run's averaging window after the
+    vibration starts, t_on + averaged_cycles / f (eqs 40-41), rounded up to 4
+    significant digits."""
+    shortest = scene.vibration.t_on + scene.averaged_cycles / scene.vibration.f
+    unit = 10.0 ** (math.floor(math.log10(shortest)) - 3)
+    return float(f"{math.ceil(shortest / unit - 1e-9) * unit:.4g}")
+
+
+def check_stepped_window(scene, why: str = "") -> None:
+    """Refuse (WindowDoesNotFit) a scene to be stepped through time.T whose
+    averaging window (scene.averaged_cycles, eqs 40-41) does not fit between
+    the vibration's onset and time.T: its F_dv would average over the time before
+    the onset. Checked where periodic or auto fall back to stepping (``why``: the
+    reason, for the message; time.method transient is checked with the scene,
+    scene.validation); the orbit they solve for otherwise needs no window."""
+    vib, time = scene.vibration, scene.time
+    cycles = scene.averaged_cycles
+    window = cycles / vib.f
+    if time.T - vib.t_on < window * (1.0 - 1e-9):   # (a window that fits to rounding fits)
+        raise WindowDoesNotFit(f"{why}{cycles} cycles ({window:.3g} s) do not fit between "
+                               f"vibration.t_on = {vib.t_on} s and time.T = {time.T} s; the "
+                               f"shortest T that works is {shortest_stepped_T(scene):g} s")
 
 
 def full_resolution_steps(scene) -> int:

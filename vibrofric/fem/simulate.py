@@ -5,7 +5,8 @@ import math
 import time
 from dataclasses import dataclass, field
 
-from ..core.series import RecordPlan, TimeSeries, averaging_steps, full_resolution_steps
+from ..core.series import (RecordPlan, TimeSeries, averaging_steps, check_stepped_window,
+                           full_resolution_steps)
 from ..core.shooting import periodic_block
 from ..meshes import level_counts
 from .integrators import periodic, registry
@@ -110,6 +111,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
             if orbit.converged and orbit.stable:
                 return _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir,
                                      start_time, setup_time)
+        check_stepped_window(scene, "no stable periodic orbit, so the scene is stepped through time.T: its ")
         if shot_scene is not scene:
             integrator = prepare(scene, model)
     else:

@@ -30,6 +30,7 @@ REFUSAL_KEYS = {
     errors.DriveTipsBlock: "drive.attach",
     errors.NoEnergyBalance: "fem.energy",
     errors.ReductionFailed: "fem.cutoff",
+    errors.WindowDoesNotFit: "time.average_cycles",
 }
 
 

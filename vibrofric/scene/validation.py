@@ -6,6 +6,7 @@ import math
 from ..friction_law import LawError
 from ..meshes import level_counts
 from ..sense import nonsense
+from ..core.series import shortest_stepped_T
 from .errors import SceneError, law_refused
 from .schema import CHOICES, Scene, to_dict
 
@@ -109,36 +110,25 @@ def validate(scene: Scene) -> None:
             raise SceneError("time.dt", f"{time.dt} s resolves a vibration cycle of 1/f = "
                                         f"{1 / vib.f:.3g} s in {steps_per_cycle:.3g} steps; "
                                         "at least 10 are needed")
-        _check_averaging_window(scene)
-
-
-def shortest_T(scene) -> float:
-    """The shortest time.T that holds the averaging window after the vibration starts,
-    t_on + averaged_cycles / f (eqs 40-41), rounded up to 4 significant digits."""
-    shortest = scene.vibration.t_on + scene.averaged_cycles / scene.vibration.f
-    unit = 10.0 ** (math.floor(math.log10(shortest)) - 3)
-    return math.ceil(shortest / unit - 1e-9) * unit
+        if time.method == "transient":   # periodic and auto answer by the orbit, if they can
+            _check_averaging_window(scene)
 
 
 def _check_averaging_window(scene) -> None:
-    """A stepped run averages F_dv over its last averaged_cycles cycles, all after
-    vibration.t_on. Under time.method auto or periodic the steady cycle is solved for
-    directly and T ends the written time series; the stepped run through T is the
-    fallback where no stable cycle is found, so T must still hold its window. The
-    message says what T is for and the shortest T that works; it names
-    time.average_cycles where the scene sets it, time.T where it is the default."""
+    """A stepped run (time.method transient) averages F_dv over its last averaged_cycles
+    cycles, all after vibration.t_on. (Under auto or periodic the steady cycle is solved
+    for directly and needs no window; core.series.check_stepped_window refuses the run
+    where they fall back to stepping.) The message says what T is for and the shortest
+    T that works; it names time.average_cycles where the scene sets it, time.T where it
+    is the default."""
     vib, time = scene.vibration, scene.time
     cycles = scene.averaged_cycles
     window = cycles / vib.f
     if time.T - vib.t_on >= window * (1.0 - 1e-9):   # (a window that fits to rounding fits)
         return
-    shortest = float(f"{shortest_T(scene):.4g}")
+    shortest = shortest_stepped_T(scene)
     why = (f"a stepped run averages F_dv over its last {cycles} vibration cycles "
            f"({window:.3g} s), all after vibration.t_on = {vib.t_on:g} s")
-    if time.method != "transient":
-        why = (f'under time.method = "{time.method}" the steady cycle is solved for directly '
-               "and T ends the written time series, but where no stable cycle is found the "
-               f"run is stepped through T instead, and {why}")
     key = "time.average_cycles" if time.average_cycles else "time.T"
     named = "" if key == "time.T" else "time.T = "
     raise SceneError(key, f"{named}{time.T:g} s is too short: {why}; the shortest T that "
