@@ -282,5 +282,5 @@ def test_the_averaging_window_is_checked_only_where_the_scene_is_stepped(monkeyp
     monkeypatch.setattr(solve_module, "find_orbit",
                         lambda *args: SimpleNamespace(converged=False, stable=False))
     with pytest.raises(WindowDoesNotFit, match="^no stable periodic orbit, so the scene is "
-                       "stepped.*the shortest T that works is 1.004 s"):
+                       "stepped.*the shortest T that works is 1.005 s"):
         solve_module.solve_with_orbit(late)

@@ -62,9 +62,15 @@ class Settling:
     note: str
 
     def as_dict(self) -> dict:
-        return {"window_drift": self.window_drift, "settled": self.settled,
-                "settle_decay_rate": self.decay_rate, "drift_remaining": self.drift_remaining,
-                "settle_note": self.note}
+        """The summary's keys, as plain Python values (summary.json, --json)."""
+        return {"window_drift": _plain(self.window_drift), "settled": bool(self.settled),
+                "settle_decay_rate": _plain(self.decay_rate),
+                "drift_remaining": _plain(self.drift_remaining), "settle_note": self.note}
+
+
+def _plain(value):
+    """A float, or None: numpy's scalars are not JSON's."""
+    return None if value is None else float(value)
 
 
 def window_means(t: np.ndarray, values: np.ndarray, steps: int, dt: float,
