@@ -137,7 +137,9 @@ class Result:
 
     summary     the run's summary.json block (F_dv, F_d0, F_dv_over_F_d0,
                 window_drift, settled, wall_time_s, ...; an FE run adds its
-                integrator, DOFs, steps, normal_force)
+                integrator, DOFs, steps, normal_force, and its error: error_estimate,
+                error_order, dt_used, dt_asked, error_note, mesh_error_estimate,
+                mesh_error_note, error_time_s)
     timeseries  the kept rows of the time series (t, F_d, F_x, F_y, x, y,
                 x_b, y_b, and an FE run's summed normal force F_n), one row a
                 kept step: every step of the last averaging windows, one every
@@ -162,6 +164,12 @@ class Result:
         """The cycle-averaged drive force over the force of steady sliding (eqs 40-41);
         None where there is no friction to reduce (F_d0 = 0)."""
         return self.summary["F_dv_over_F_d0"]
+
+    @property
+    def error_estimate(self) -> float | None:
+        """The estimated error of F_dv_over_F_d0 (absolute; summary's error_note says how
+        it was made, or why it was not: None)."""
+        return self.summary.get("error_estimate")
 
     @property
     def settled(self) -> bool:

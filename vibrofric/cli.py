@@ -305,10 +305,37 @@ def cmd_run(args) -> None:
                if fe["stopped_early"] else "")
     periodic = _periodic_note(fe, "FE ")
     settled += f"; {periodic.strip()[1:-1]}" if periodic else ""
+    _warn_inaccurate(fe, scene, "FE")
     _emit(args, document,
-          f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['integrator']}, {fe['dofs']} DOFs, "
+          f"F_dv/F_d0: FE {_with_error(fe)} ({fe['integrator']}, {fe['dofs']} DOFs, "
           f"{fe['wall_time_s']:.1f} s{settled}), analytic {_number(analytic['F_dv_over_F_d0'])}; "
           f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}")
+
+
+def _with_error(summary: dict) -> str:
+    """F_dv/F_d0 and its estimated error: "0.1370 ± 0.0097", or "0.1370 (error not
+    estimated)" (the summary's error_note says why)."""
+    ratio = _number(summary["F_dv_over_F_d0"])
+    error = summary.get("error_estimate")
+    return f"{ratio} ± {error:.2g}" if error is not None else f"{ratio} (error not estimated)"
+
+
+def _warn_inaccurate(summary: dict, scene, label: str) -> None:
+    """A warning on stderr where the estimated error exceeds time.accuracy, naming the
+    step that would meet it (by the order observed, else the one assumed: the
+    estimate falls as dt^p)."""
+    from .core.step_error import StepError
+    from .fem.step_error import FORMAL_ORDER
+
+    error = summary.get("error_estimate")
+    accuracy = scene.time.accuracy
+    if error is None or error <= accuracy:
+        return
+    step = StepError(error, summary["error_order"], summary["dt_used"],
+                     summary["dt_asked"]).step_for(accuracy, FORMAL_ORDER)
+    print(f"warning: the {label} F_dv/F_d0's estimated error {error:.2g} exceeds "
+          f"time.accuracy {accuracy:g}: time.dt = {step:.2g} s would meet it "
+          f'(or fem.integrator = "auto" finds the step)', file=sys.stderr)
 
 
 def _periodic_note(summary: dict, label: str = "") -> str:

@@ -122,6 +122,13 @@ class Time:
                                            # (analytic/periodic.py, fem/integrators/periodic.py),
                                            # stepped through T where it does not converge or is
                                            # not stable, saying so; "transient": step through T
+    accuracy: float = 1e-3                 # the error of F_dv / F_d0 (absolute) an answer should meet;
+                                           # FE: fem.integrator "auto" refines its step until its
+                                           # estimate does (fem/step_error.py)
+    error_estimate: typing.Union[str, bool] = "auto"  # FE: the step's error from a second run at
+                                           # dt / 2. true: always; false: never; "auto": where that
+                                           # is cheap, a steady cycle (time.method periodic / auto)
+                                           # on the coarse mesh or a coarser one (fem/step_error.py)
 
 
 @dataclass(frozen=True)
