@@ -200,7 +200,7 @@ def _answer_at(scene, model, dt, start, periodic_answer: bool, drive_force=None)
     return step_error.Answer(dt, F_dv / F_d0, start)
 
 
-def _ratio(result: FEResult, scene) -> float | None:
+def answer_ratio(result: FEResult, scene) -> float | None:
     """The answer's F_dv/F_d0, as the summary computes it (analytic/summary.py)."""
     F_d0 = scene.friction.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)
     if result.info.get("periodic", {}).get("method") == "periodic":
@@ -218,7 +218,7 @@ def _step_error(scene, model, result: FEResult, drive_force):
     why = step_error.reason_not_to(scene, answered)
     if why is not None:
         return not_estimated(dt_used, scene.time.dt, why)
-    ratio = _ratio(result, scene)
+    ratio = answer_ratio(result, scene)
     if ratio is None:
         return not_estimated(dt_used, scene.time.dt, "F_dv/F_d0 is not a number (F_d0 = 0)")
     first = step_error.Answer(dt_used, ratio, result.orbit.z if answered else None)
@@ -231,12 +231,18 @@ def _auto_step(scene, model, drive_force):
     """fem.integrator = "auto": (the scene to answer, at the integrator and step picked,
     and step_error.StepChoice). The integrator is the cheapest at the first step tried
     (registry.choose), the step the one step_error.search_step finds for it."""
-    dt0 = step_error.first_step(scene)
     periodic_answer = scene.time.method != "transient" and scene.vibrated
-    if periodic_answer:
-        dt0 = periodic.periodic_scene(scene.with_values({"time.dt": dt0}))[0].time.dt
-    first = scene.with_values({"time.dt": dt0})
-    picked = registry.choose(first, model)
+    dt0 = step_error.first_step(scene)
+    for halvings in range(step_error.MAX_HALVINGS + 1):   # a stiff contact: no integrator at 25
+        if periodic_answer:                                # a cycle (the contact iteration)
+            dt0 = periodic.periodic_scene(scene.with_values({"time.dt": dt0}))[0].time.dt
+        try:
+            picked = registry.choose(scene.with_values({"time.dt": dt0}), model)
+            break
+        except Refusal:
+            if halvings == step_error.MAX_HALVINGS:
+                raise
+            dt0 /= 2.0
     named = scene.with_values({"fem.integrator": picked.name})
     chosen = step_error.search_step(
         named, lambda dt, start: _answer_at(named, model, dt, start, periodic_answer,
@@ -273,12 +279,12 @@ def mesh_error(scene, result: FEResult, comm) -> dict:
                '= "auto" (a coarser one is, beside an estimated step error)')
         return {**key, "mesh_error_note": f"not estimated: {why}; a run with another fem.mesh "
                                           "caches its block (fem/model/model_cache.py)"}
-    ratio = _ratio(result, scene)
+    ratio = answer_ratio(result, scene)
     other_scene = scene.with_values({"fem.mesh": other, "fem.integrator": result.info["integrator"],
                                      "time.dt": result.info["dt"], "time.error_estimate": False,
                                      "fem.output_every": 0})
     try:
-        other_ratio = _ratio(run_fe(other_scene, comm), other_scene)
+        other_ratio = answer_ratio(run_fe(other_scene, comm), other_scene)
     except (NumericalError, Refusal) as trouble:
         return {**key, "mesh_error_note": f"not estimated: the {other} mesh's run failed: {trouble}"}
     if ratio is None or other_ratio is None:

@@ -143,8 +143,9 @@ class Fem:
                                            # infinite frequency; 1 = trapezoidal rule (fem/integrators/implicit.py)
     cutoff: float = 12.0                   # reduced: keep the block's fixed-interface modes below
                                            # cutoff * vibration.f (fem/integrators/reduction.py)
-    accuracy: float = 0.01                 # auto: the relative error of F_dv / F_d0 it may trade
-                                           # for speed (fem/integrators/registry.py)
+    accuracy: float = 0.01                 # auto: the reduced model's estimated error of F_dv (relative)
+                                           # it accepts (fem/integrators/registry.py); its step
+                                           # meets time.accuracy
     energy: bool = False                   # implicit, reduced: record the energy balance
                                            # (fem/outputs/energy.py)
 
