@@ -20,7 +20,7 @@ steps     Fig 7 per integrator and step, against the converged FE answer: the
 
 Wall times are measured on the machine it runs on, in one process (the first answer
 of each integrator compiles or loads its loop: its time is left out of nothing,
-read the estimate's added time, error_time_s, against the answer's).
+read the estimate's added time, error_wall_time_s, against the answer's).
 """
 
 import argparse
@@ -79,7 +79,7 @@ def estimate_table(cases) -> list[str]:
         quotient = error.estimate / true if error.estimate is not None and true > 0 else None
         within = true <= 1e-6 or (quotient is not None and 1 / 3 <= quotient <= 3)
         order = f"{error.order:.2f}" if error.order is not None else "2 assumed"
-        spent = result.info["error_time_s"]
+        spent = result.info["error_wall_time_s"]
         rows.append(f"| {label} | {dt:g} | {ratio:.5f} | {error.estimate:.2e} | {order} | "
                     f"{true:.2e} | {quotient:.2f} | {'yes' if within else 'NO'} | "
                     f"{wall - spent:.2f} | {spent:.2f} |")

@@ -139,7 +139,7 @@ class Result:
                 window_drift, settled, wall_time_s, ...; an FE run adds its
                 integrator, DOFs, steps, normal_force, and its error: error_estimate,
                 error_order, dt_used, dt_asked, error_note, mesh_error_estimate,
-                mesh_error_note, error_time_s)
+                mesh_error_note, error_wall_time_s)
     timeseries  the kept rows of the time series (t, F_d, F_x, F_y, x, y,
                 x_b, y_b, and an FE run's summed normal force F_n), one row a
                 kept step: every step of the last averaging windows, one every

@@ -62,14 +62,14 @@ def error_keys(fe) -> dict:
     F_dv/F_d0: the time step's, fem/step_error.py, plus the mesh's where it was
     estimated; None where the step's was not), error_order, dt_used, dt_asked,
     error_note (how it was made, or "not estimated: " why and how to ask for it),
-    mesh_error_estimate and mesh_error_note (fem/simulate.py mesh_error), error_time_s
+    mesh_error_estimate and mesh_error_note (fem/simulate.py mesh_error), error_wall_time_s
     (the wall time of the runs the estimates took)."""
     keys = fe.step_error.as_dict()
     mesh = fe.mesh_error.get("mesh_error_estimate")
     if keys["error_estimate"] is not None and mesh is not None:
         keys["error_estimate"] += mesh
         keys["error_note"] += "; plus the mesh's error (mesh_error_estimate)"
-    return {**keys, **fe.mesh_error, "error_time_s": fe.info["error_time_s"]}
+    return {**keys, **fe.mesh_error, "error_wall_time_s": fe.info["error_wall_time_s"]}
 
 
 def fe_beside_analytic(scene, directory, comm=None, progress=None,

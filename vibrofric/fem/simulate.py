@@ -107,7 +107,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
     Raises core.errors.Refusal for a scene the model cannot run, before
     the first step, and NumericalError for a run that went wrong (NaN, a
     diverging asperity, the normal force blowing up or ringing). The result's
-    info is run_info's, with error_time_s: the wall time of the estimates' runs.
+    info is run_info's, with error_wall_time_s: the wall time of the estimates' runs.
     """
     start_time = time.perf_counter()
     comm = _communicator(comm)
@@ -127,7 +127,7 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
         result.step_error = _step_error(scene, model, result, drive_force)
     result.mesh_error = mesh_error(scene, result, comm)
     end = time.perf_counter()
-    result.info["error_time_s"] = end - estimates_begin
+    result.info["error_wall_time_s"] = end - estimates_begin
     result.info["wall_time_s"] = end - start_time
     return result
 
