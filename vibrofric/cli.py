@@ -322,8 +322,9 @@ def _with_error(summary: dict) -> str:
 
 def _warn_inaccurate(summary: dict, scene, label: str) -> None:
     """A warning on stderr where the estimated error exceeds time.accuracy, naming the
-    step that would meet it (by the order observed, else the one assumed: the
-    estimate falls as dt^p)."""
+    step that would bring the step's share within what the mesh's leaves (by the order
+    observed, else the one assumed: the step's error falls as dt^p), or the mesh
+    where its error alone exceeds it."""
     from .core.step_error import StepError
     from .fem.step_error import FORMAL_ORDER
 
@@ -331,11 +332,16 @@ def _warn_inaccurate(summary: dict, scene, label: str) -> None:
     accuracy = scene.time.accuracy
     if error is None or error <= accuracy:
         return
-    step = StepError(error, summary["error_order"], summary["dt_used"],
-                     summary["dt_asked"]).step_for(accuracy, FORMAL_ORDER)
+    mesh = summary.get("mesh_error_estimate") or 0.0
+    if mesh >= accuracy:
+        remedy = f"the mesh's error alone is {mesh:.2g}: a finer fem.mesh would lower it"
+    else:
+        step = StepError(error - mesh, summary["error_order"], summary["dt_used"],
+                         summary["dt_asked"]).step_for(accuracy - mesh, FORMAL_ORDER)
+        remedy = (f'time.dt = {step:.2g} s would meet it (or fem.integrator = "auto" finds '
+                  "the step)")
     print(f"warning: the {label} F_dv/F_d0's estimated error {error:.2g} exceeds "
-          f"time.accuracy {accuracy:g}: time.dt = {step:.2g} s would meet it "
-          f'(or fem.integrator = "auto" finds the step)', file=sys.stderr)
+          f"time.accuracy {accuracy:g}: {remedy}", file=sys.stderr)
 
 
 def _periodic_note(summary: dict, label: str = "") -> str:
