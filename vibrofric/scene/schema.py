@@ -128,7 +128,9 @@ class Time:
     error_estimate: typing.Union[str, bool] = "auto"  # FE: the step's error from a second run at
                                            # dt / 2. true: always; false: never; "auto": where that
                                            # is cheap, a steady cycle (time.method periodic / auto)
-                                           # on the coarse mesh or a coarser one (fem/step_error.py)
+                                           # on the coarse mesh or a coarser one (fem/step_error.py);
+                                           # and the mesh's error where another level's block is
+                                           # cached (fem/simulate.py mesh_error)
 
 
 @dataclass(frozen=True)
