@@ -10,8 +10,8 @@ With two steps the integrators' formal order, 2, is assumed (central differences
 generalized-alpha, Chung & Hulbert, J. Appl. Mech. 60 (1993) 371) and the factor of
 safety is TWO_STEP_SAFETY, 1.25, not Roache's 3 for an assumed order: on the paper's
 scenes the answers often converge faster than that order at the first halving
-(F(dt/2) already within 10% of the converged value, then alternating by a little),
-where 3 x 4/3 |F(dt) - F(dt/2)| was 4.4-6 times the true error (Fig 10 at k_v 20,
+(F(dt/2) nearly converged already, then alternating by a little),
+where 3 x 4/3 |F(dt) - F(dt/2)| was 4.5-6.2 times the true error (Fig 10 at k_v 20,
 Fig 12 at k_v 6, 150 deg and k_v 20, 300 deg, reduced at 1e-5 s), while elsewhere the
 observed order is ~1 (Fig 7: reduced from 1e-5 s to 2.5e-6 s, explicit from 1e-6 s),
 where order 2 understates the error. With 1.25 the estimate was 0.57-2.6 times
