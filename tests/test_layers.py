@@ -113,8 +113,9 @@ def test_every_refusal_has_a_scene_key():
 
 
 # Inside fem, bottom to top: the model as arrays, what a run records, the integrators that
-# step the model and record, and simulate (run_fe) on top.
-FEM_FLOORS = ("model", "outputs", "integrators", "simulate")
+# step the model and record, the answer's step error (which answers to compare), and
+# simulate (run_fe) on top.
+FEM_FLOORS = ("model", "outputs", "integrators", "step_error", "simulate")
 
 
 @pytest.mark.parametrize("name", FEM_FLOORS)

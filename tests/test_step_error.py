@@ -73,3 +73,11 @@ def test_refuses_steps_that_are_not_halved_and_reports_non_finite():
     assert est.estimate is None and est.note.startswith("not estimated")
     assert set(est.as_dict()) == {"error_estimate", "error_order", "dt_used", "dt_asked",
                                   "error_note"}
+
+
+def test_two_answers_take_the_factor_of_safety_asked_for():
+    data = answers(2.0, count=2)
+    est = richardson(data, dt_asked=1e-5, formal_order=2.0, two_step_safety=1.25)
+    # the answers are exactly C h^2: Richardson's error at order 2 is exact, times 1.25
+    assert est.estimate == pytest.approx(1.25 * (data[0][1] - EXACT), rel=1e-9)
+    assert "factor of safety 1.25" in est.note

@@ -54,8 +54,12 @@ def accuracy_warning(summary: dict, label: str = "") -> str | None:
     if error is None or accuracy is None or error <= accuracy:
         return None
     what = f"{label} " if label else ""
-    step = summary.get("dt_for_accuracy")
-    advice = (f"; time.dt = {step:.6g} s would meet it (a whole number of steps a cycle)"
-              if step is not None else "")
+    step, mesh = summary.get("dt_for_accuracy"), summary.get("mesh_error_estimate")
+    if step is not None:
+        advice = f"; time.dt = {step:.6g} s would meet it"
+    elif mesh is not None and mesh >= accuracy:
+        advice = f"; the mesh's error alone is {mesh:.2g}: a finer fem.mesh would lower it"
+    else:
+        advice = ""
     return (f"warning: the {what}answer's step error {error:.2g} exceeds time.accuracy "
             f"{accuracy:g} (dt {summary['dt_used']:.6g} s){advice}")

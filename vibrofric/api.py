@@ -158,9 +158,10 @@ class Result:
     """One run's results.
 
     summary     the run's summary.json block (F_dv, F_d0, F_dv_over_F_d0,
-                error_estimate, dt_used, window_drift, settled, wall_time_s, ...;
-                an FE run adds its
-                integrator, DOFs, steps, normal_force)
+                window_drift, settled, wall_time_s, and its error: error_estimate,
+                error_order, dt_used, dt_asked, error_note, ...; an FE run adds its
+                integrator, DOFs, steps, normal_force, mesh_error_estimate,
+                mesh_error_note)
     timeseries  the kept rows of the time series (t, F_d, F_x, F_y, x, y,
                 x_b, y_b, and an FE run's summed normal force F_n), one row a
                 kept step: every step of the last averaging windows, one every
@@ -195,9 +196,10 @@ class Result:
 
     @property
     def error_estimate(self) -> float | None:
-        """The bound on F_dv/F_d0's time-step error (absolute), from the same solver at
-        dt/2 and dt/4 (Richardson: core/step_error.py); None where none was made
-        (``step_error.note`` says why)."""
+        """The estimated error of F_dv/F_d0 (absolute), from the same solver at dt/2 and
+        dt/4 (Richardson: core/step_error.py; an FE run's adds the mesh's where a block of
+        another refinement is cached); None where none was made (summary's error_note
+        says why)."""
         return self.summary.get("error_estimate")
 
     @property

@@ -332,8 +332,9 @@ def cmd_run(args) -> None:
                if fe["stopped_early"] else "")
     periodic = _periodic_note(fe, "FE ")
     settled += f"; {periodic.strip()[1:-1]}" if periodic else ""
+    _warn_inaccurate(fe, "FE")
     _emit(args, document,
-          f"F_dv/F_d0: FE {_number(fe['F_dv_over_F_d0'])} ({fe['integrator']}, {fe['dofs']} DOFs, "
+          f"F_dv/F_d0: FE {value_with_error(fe)} ({fe['integrator']}, {fe['dofs']} DOFs, "
           f"{fe['wall_time_s']:.1f} s{settled}), analytic {value_with_error(analytic)}; "
           f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}"
           + (f"; {fe['normal_force_rule_note']}" if fe.get("normal_force_rule_note") else ""))

@@ -44,6 +44,32 @@ def relative_error(fe: float | None, analytic: float | None) -> float | None:
     return abs(fe - analytic) / analytic
 
 
+def error_keys(fe, scene) -> dict:
+    """The FE summary's error keys (the interface's): error_estimate (absolute, on
+    F_dv/F_d0: the time step's, fem/step_error.py, plus the mesh's where it was
+    estimated; None where the step's was not), error_order, dt_used, dt_asked,
+    error_note (how it was made, or "not estimated: " why and how to ask for it),
+    mesh_error_estimate and mesh_error_note (fem/simulate.py mesh_error), error_wall_time_s
+    (the wall time of the runs the estimates took), and, as the analytic summary's
+    (analytic/accuracy.py), accuracy (time.accuracy) and dt_for_accuracy: the step
+    that brings the step's share of the error within what the mesh's leaves of it
+    (the error falling as dt^p, p observed or the integrators' order), None where it
+    is met already or the mesh's error alone exceeds it."""
+    from .fem.step_error import FORMAL_ORDER
+
+    keys = fe.step_error.as_dict()
+    mesh = fe.mesh_error.get("mesh_error_estimate")
+    accuracy = scene.time.accuracy
+    step_for = None
+    if keys["error_estimate"] is not None and (mesh or 0.0) < accuracy:
+        step_for = fe.step_error.step_for(accuracy - (mesh or 0.0), FORMAL_ORDER)
+    if keys["error_estimate"] is not None and mesh is not None:
+        keys["error_estimate"] += mesh
+        keys["error_note"] += "; plus the mesh's error (mesh_error_estimate)"
+    return {**keys, **fe.mesh_error, "error_wall_time_s": fe.info["error_wall_time_s"],
+            "accuracy": accuracy, "dt_for_accuracy": step_for}
+
+
 def fe_beside_analytic(scene, directory, comm=None, progress=None,
                        full_series: bool = False, start=None) -> FEBesideAnalytic:
     """Run the scene's FE model and the analytic stepper beside it (run_beside), and
@@ -92,7 +118,7 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
                   "integrator": info["integrator"], "integrator_choice": info["integrator_choice"],
                   "steps": info["steps"], "stopped_early": info["stopped_early"],
                   "stop_time_s": info["stop_time_s"], "saving": info["saving"],
-                  "normal_force": info["F_n_kind"],
+                  "normal_force": info["F_n_kind"], **error_keys(fe, scene),
                   "normal_force_node_swing": info["F_n_node_swing"],
                   "normal_force_rule": info["normal_force_rule"],
                   "normal_force_rule_note": rule_note(info["F_n_node_swing"],

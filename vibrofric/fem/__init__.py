@@ -42,11 +42,13 @@ integrators/  the time integrators that step the model, and the periodic solver 
                  in the drive's frame, its unrestrained rigid motions gauged out
     periodic     the steady cycle directly (time.method periodic / auto): shooting on it
 
-simulate.py   run_fe(scene, comm, vtk_dir, progress, start) -> FEResult: one FE run
+simulate.py   run_fe(scene, comm, vtk_dir, progress, start) -> FEResult: one FE run;
+              answer_ratio(result, scene): its F_dv/F_d0
+step_error.py the answer's time-step error (dt and dt/2), and the step "auto" takes by it
 
 Only model/dolfinx_adapter imports DOLFINx, UFL and petsc4py.
 """
 
-from .simulate import FEResult, run_fe
+from .simulate import FEResult, answer_ratio, run_fe
 
-__all__ = ["FEResult", "run_fe"]
+__all__ = ["FEResult", "answer_ratio", "run_fe"]

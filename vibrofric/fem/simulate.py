@@ -1,17 +1,23 @@
 """Simulate a scene with the FE model: ``run_fe(scene, comm=None, vtk_dir=None) -> FEResult``:
 stepped through time.T, or (time.method periodic / auto) answered by its steady cycle."""
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..core.series import (RecordPlan, TimeSeries, averaging_steps, check_stepped_window,
                            full_resolution_steps)
 from ..core.shooting import periodic_block
+from ..core.errors import NumericalError, Refusal
+from ..core.step_error import not_estimated
 from ..meshes import level_counts
+from . import step_error
 from .integrators import periodic, registry
 from .integrators.cycle_map import FECycleMap
-from .model.fe_model import build_model
+from .model.fe_model import build_model, cached_levels
 from .model.linalg import one_blas_thread
 from .outputs.normal_swing import judge, node_swing
 from .outputs.paraview import FrameWriter, node_fields
@@ -34,12 +40,17 @@ class FEResult:
             "contact_nodes" (indices) and "t" (the step's time, s)
     orbit   with time.method "periodic" or "auto": the shooting's core.shooting.Orbit
             (whether or not it answered: info["periodic"]["method"] says), else None
+    step_error  core.step_error.StepError of F_dv/F_d0 (its estimate None where none
+            was made: its note says why)
+    mesh_error  {"mesh_error_estimate": float or None, "mesh_error_note": str}
     """
 
     series: TimeSeries
     info: dict = field(default_factory=dict)
     fields: dict = field(default_factory=dict, repr=False)
     orbit: object = None
+    step_error: object = None
+    mesh_error: dict = field(default_factory=dict)
 
 
 def _communicator(comm):
@@ -87,15 +98,44 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
     stable, the scene is stepped through T as with "transient". info["periodic"]
     (core.shooting.periodic_block) says which answered.
 
+    The answer's time-step error (FEResult.step_error: step_error.py): from a second
+    answer at dt/2 where time.error_estimate asks for it; with fem.integrator "auto",
+    the step is the one whose estimate meets time.accuracy (step_error.search_step)
+    and the integrator the cheapest at the first step tried (registry.choose). The
+    mesh's error (FEResult.mesh_error) where the block of another refinement level is
+    cached (mesh_error).
+
     Raises core.errors.Refusal for a scene the model cannot run, before
     the first step, and NumericalError for a run that went wrong (NaN, a
     diverging asperity, the normal force blowing up or ringing). The result's
-    info is run_info's.
+    info is run_info's, with error_wall_time_s: the wall time of the estimates' runs.
     """
     start_time = time.perf_counter()
     comm = _communicator(comm)
-    prepare = registry.select(scene)
     model = build_model(scene, comm)
+    if scene.fem.integrator == "auto":     # the answers at the steps tried count as the estimate's
+        run_scene, chosen = _auto_step(scene, model, drive_force)
+        search_time = time.perf_counter() - start_time
+        result = _run(run_scene, model, vtk_dir, progress, chosen.start, drive_force,
+                      time.perf_counter())
+        result.info["integrator_requested"] = "auto"
+        result.info["integrator_choice"] = chosen.text
+        result.step_error = chosen.error
+        estimates_begin = time.perf_counter() - search_time
+    else:
+        result = _run(scene, model, vtk_dir, progress, start, drive_force, start_time)
+        estimates_begin = time.perf_counter()
+        result.step_error = _step_error(scene, model, result, drive_force)
+    result.mesh_error = mesh_error(scene, result, comm)
+    end = time.perf_counter()
+    result.info["error_wall_time_s"] = end - estimates_begin
+    result.info["wall_time_s"] = end - start_time
+    return result
+
+
+def _run(scene, model, vtk_dir, progress, start, drive_force, start_time) -> FEResult:
+    """The answer at the scene's own integrator and step (run_fe without its estimates)."""
+    prepare = registry.select(scene)
     orbit = None
     if scene.time.method != "transient" and scene.vibrated:
         shot_scene, steps = periodic.periodic_scene(scene)
@@ -133,6 +173,129 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
     if orbit is not None:
         info["periodic"] = periodic_block(orbit, scene)
     return FEResult(series=series, info=info, fields=last_fields(model, run.state), orbit=orbit)
+
+
+def _answer_at(scene, model, dt, start, periodic_answer: bool, drive_force=None):
+    """step_error.Answer: F_dv/F_d0 of ``scene`` at the step ``dt``, by its integrator
+    on ``model``: with ``periodic_answer`` the steady cycle (shot from the orbit state
+    ``start``, else from steady sliding under ``drive_force``; no Floquet multipliers:
+    the orbit at the scene's own step was judged), else stepped through T."""
+    at = scene.with_values({"time.dt": dt, "fem.output_every": 0})
+    F_d0 = at.friction.steady_sliding_force(at.contact.F_N, at.drive.v_d)
+    try:
+        if periodic_answer:
+            shot, steps = periodic.periodic_scene(at)
+            phi = FECycleMap(registry.select(shot)(shot, model), model, steps)
+            with one_blas_thread():
+                orbit = periodic.find_orbit(phi, start, drive_force, stability=False)
+            if not orbit.converged:
+                return step_error.Answer(shot.time.dt, None, None,
+                                         f"no steady cycle at {shot.time.dt:.4g} s: {orbit.reason}")
+            F_dv, dt, start = float(np.mean(orbit.cycle[:, 1])), shot.time.dt, orbit.z
+        else:
+            run = _integrate(at, registry.select(at)(at, model), None, None)
+            F_d = TimeSeries.from_table(run.table, extra_columns(at.fem.energy)).F_d
+            F_dv, start = float(np.mean(F_d[-averaging_steps(at):])), None
+    except (NumericalError, Refusal) as trouble:
+        return step_error.Answer(dt, None, None, f"at {dt:.4g} s: {trouble}")
+    if not (F_d0 > 0.0 and math.isfinite(F_dv)):
+        return step_error.Answer(dt, None, None, f"F_dv/F_d0 is not a number at {dt:.4g} s")
+    return step_error.Answer(dt, F_dv / F_d0, start)
+
+
+def answer_ratio(result: FEResult, scene) -> float | None:
+    """The answer's F_dv/F_d0, as the summary computes it (analytic/summary.py)."""
+    F_d0 = scene.friction.steady_sliding_force(scene.contact.F_N, scene.drive.v_d)
+    if result.info.get("periodic", {}).get("method") == "periodic":
+        F_dv = float(np.mean(result.orbit.cycle[:, 1]))
+    else:
+        F_dv = float(np.mean(result.series.F_d[-averaging_steps(scene):]))
+    return F_dv / F_d0 if F_d0 > 0.0 and math.isfinite(F_dv) else None
+
+
+def _step_error(scene, model, result: FEResult, drive_force):
+    """The answer's StepError from a second answer at dt/2 (step_error.halved_estimate),
+    where time.error_estimate asks for it (step_error.reason_not_to)."""
+    answered = result.info.get("periodic", {}).get("method") == "periodic"
+    dt_used = result.info["dt"]
+    why = step_error.reason_not_to(scene, answered)
+    if why is not None:
+        return not_estimated(dt_used, scene.time.dt, why)
+    ratio = answer_ratio(result, scene)
+    if ratio is None:
+        return not_estimated(dt_used, scene.time.dt, "F_dv/F_d0 is not a number (F_d0 = 0)")
+    first = step_error.Answer(dt_used, ratio, result.orbit.z if answered else None)
+    return step_error.halved_estimate(
+        first, lambda dt, start: _answer_at(scene, model, dt, start, answered, drive_force),
+        scene.time.dt)
+
+
+def _auto_step(scene, model, drive_force):
+    """fem.integrator = "auto": (the scene to answer, at the integrator and step picked,
+    and step_error.StepChoice). The integrator is the cheapest at the first step tried
+    (registry.choose), the step the one step_error.search_step finds for it."""
+    periodic_answer = scene.time.method != "transient" and scene.vibrated
+    dt0 = step_error.first_step(scene)
+    for halvings in range(step_error.MAX_HALVINGS + 1):   # a stiff contact: no integrator at 25
+        if periodic_answer:                                # a cycle (the contact iteration)
+            dt0 = periodic.periodic_scene(scene.with_values({"time.dt": dt0}))[0].time.dt
+        try:
+            picked = registry.choose(scene.with_values({"time.dt": dt0}), model)
+            break
+        except Refusal:
+            if halvings == step_error.MAX_HALVINGS:
+                raise
+            dt0 /= 2.0
+    named = scene.with_values({"fem.integrator": picked.name})
+    chosen = step_error.search_step(
+        named, lambda dt, start: _answer_at(named, model, dt, start, periodic_answer,
+                                            drive_force), dt0)
+    chosen = dataclasses.replace(chosen, text=f"{picked.choice}; {chosen.text}")
+    return named.with_values({"time.dt": chosen.dt}), chosen
+
+
+def mesh_error(scene, result: FEResult, comm) -> dict:
+    """The mesh's error of F_dv/F_d0, from the block of another refinement level where
+    the model cache holds one (model_cache.cached_levels): the same integrator at the
+    same step on it, |F - F_other|. Another level is run where time.error_estimate is
+    true (the nearest finer one cached, else the nearest coarser), or "auto" and the
+    step's error was estimated (the nearest coarser one: cheaper than the answer; its
+    difference bounds the answer's error where the meshes converge monotonically)."""
+    key = {"mesh_error_estimate": None}
+    mesh = scene.fem.mesh
+    if scene.time.error_estimate is False:
+        return {**key, "mesh_error_note": "not estimated: time.error_estimate = false"}
+    cached = cached_levels(scene)
+    size = math.prod(level_counts(mesh))
+    finer = sorted((l for l in cached if math.prod(level_counts(l)) > size),
+                   key=lambda l: math.prod(level_counts(l)))
+    coarser = sorted((l for l in cached if math.prod(level_counts(l)) < size),
+                     key=lambda l: -math.prod(level_counts(l)))
+    estimated = result.step_error is not None and result.step_error.estimate is not None
+    if scene.time.error_estimate is True:
+        other = (finer + coarser or [None])[0]
+    else:
+        other = coarser[0] if coarser and estimated else None
+    if other is None:
+        why = ("no block of another refinement level is cached" if not cached else
+               f"the cached levels ({', '.join(cached)}) are not run under time.error_estimate "
+               '= "auto" (a coarser one is, beside an estimated step error)')
+        return {**key, "mesh_error_note": f"not estimated: {why}; a run with another fem.mesh "
+                                          "caches its block (fem/model/model_cache.py)"}
+    ratio = answer_ratio(result, scene)
+    other_scene = scene.with_values({"fem.mesh": other, "fem.integrator": result.info["integrator"],
+                                     "time.dt": result.info["dt"], "time.error_estimate": False,
+                                     "fem.output_every": 0})
+    try:
+        other_ratio = answer_ratio(run_fe(other_scene, comm), other_scene)
+    except (NumericalError, Refusal) as trouble:
+        return {**key, "mesh_error_note": f"not estimated: the {other} mesh's run failed: {trouble}"}
+    if ratio is None or other_ratio is None:
+        return {**key, "mesh_error_note": "not estimated: F_dv/F_d0 is not a number"}
+    side = "finer" if other in finer else "coarser"
+    return {"mesh_error_estimate": abs(ratio - other_ratio),
+            "mesh_error_note": f"|F({mesh}) - F({other})|, the {side} {other} mesh's block cached "
+                               f"(the same integrator and step)"}
 
 
 def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, start_time,

@@ -30,6 +30,11 @@ def assign(raw: dict, key: str, value) -> None:
 def check_type(key: str, value, annotation):
     """Coerce a TOML value to the field's type, or refuse it."""
     optional = typing.get_origin(annotation) is typing.Union
+    if optional and type(None) not in typing.get_args(annotation):   # a choice of types
+        if not isinstance(value, typing.get_args(annotation)):
+            names = " or ".join(t.__name__ for t in typing.get_args(annotation))
+            raise SceneError(key, f"expected {names}, got {value!r}")
+        return value
     base = typing.get_args(annotation)[0] if optional else annotation
     if base is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):

@@ -69,7 +69,10 @@ def field_comments(cls) -> dict:
 
 def type_name(annotation) -> str:
     if typing.get_origin(annotation) is typing.Union:
-        return f"{typing.get_args(annotation)[0].__name__} (optional)"
+        choices = typing.get_args(annotation)
+        if type(None) not in choices:
+            return " or ".join(t.__name__ for t in choices)
+        return f"{choices[0].__name__} (optional)"
     return {tuple: "3 numbers"}.get(annotation, getattr(annotation, "__name__", str(annotation)))
 
 

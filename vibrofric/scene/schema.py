@@ -134,6 +134,15 @@ class Time:
                                            # (analytic/periodic.py, fem/integrators/periodic.py),
                                            # stepped through T where it does not converge or is
                                            # not stable, saying so; "transient": step through T
+    accuracy: float = 1e-3                 # the error of F_dv / F_d0 (absolute) an answer should meet;
+                                           # FE: fem.integrator "auto" refines its step until its
+                                           # estimate does (fem/step_error.py)
+    error_estimate: typing.Union[str, bool] = "auto"  # FE: the step's error from a second run at
+                                           # dt / 2. true: always; false: never; "auto": where that
+                                           # is cheap, a steady cycle (time.method periodic / auto)
+                                           # on the coarse mesh or a coarser one (fem/step_error.py);
+                                           # and the mesh's error where another level's block is
+                                           # cached (fem/simulate.py mesh_error)
 
 
 @dataclass(frozen=True)
@@ -148,8 +157,9 @@ class Fem:
                                            # infinite frequency; 1 = trapezoidal rule (fem/integrators/implicit.py)
     cutoff: float = 12.0                   # reduced: keep the block's fixed-interface modes below
                                            # cutoff * vibration.f (fem/integrators/reduction.py)
-    accuracy: float = 0.01                 # auto: the relative error of F_dv / F_d0 it may trade
-                                           # for speed (fem/integrators/registry.py)
+    accuracy: float = 0.01                 # auto: the reduced model's estimated error of F_dv (relative)
+                                           # it accepts (fem/integrators/registry.py); its step
+                                           # meets time.accuracy
     energy: bool = False                   # implicit, reduced: record the energy balance
                                            # (fem/outputs/energy.py)
     normal_force: str = "nodal"            # the normal force each node's friction law sees:

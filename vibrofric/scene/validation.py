@@ -60,6 +60,11 @@ def validate(scene: Scene) -> None:
         raise SceneError("fem.rho_infinity", f"must lie in [0, 1], got {scene.fem.rho_infinity}")
     if scene.fem.cutoff < 0:
         raise SceneError("fem.cutoff", f"must be >= 0, got {scene.fem.cutoff}")
+    if not 0.0 < scene.time.accuracy < 1.0:
+        raise SceneError("time.accuracy", f"must lie in (0, 1), got {scene.time.accuracy}")
+    if scene.time.error_estimate not in (True, False, "auto"):
+        raise SceneError("time.error_estimate",
+                         f"must be true, false or \"auto\", got {scene.time.error_estimate!r}")
     if not 0.0 < scene.fem.accuracy < 1.0:
         raise SceneError("fem.accuracy", f"must lie in (0, 1), got {scene.fem.accuracy}")
     if scene.time.steady_tolerance < 0:

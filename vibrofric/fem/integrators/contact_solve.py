@@ -59,15 +59,6 @@ SUBSTEPS_PER_CYCLE = 100
 # Refuse a scene whose estimated contraction factor is above this (at 0.5 the
 # iteration needs ~25 steps; beyond, it may not converge).
 MAX_CONTRACTION = 0.5
-# The implicit integrators are trusted to fem.accuracy (for "auto") up to this
-# slip a step at the fastest sliding, in sliding lengths s_c
-# (core.law_limits.slip_per_step). The paper's scenes at 1e-5 s slide 0.5 s_c
-# (Fig 7, within 0.05% of explicit) and 1.5 s_c (k_v = 20: 0.25% below explicit,
-# 0.8% above at 120 deg). A stiff contact slides more, and where it rocks the
-# block (the Fig 7 scene's spring drive at k_t x 100) the implicit run was 16%
-# above the converged F_dv at 13 s_c a step, 3.8% at 6.3 s_c and 0.8% at 3.2 s_c.
-# (Under prescribed sliding, without the rocking, 6.3 s_c was within 2e-4.)
-TRUSTED_SLIP_PER_STEP = 2.0
 # What iterate_contact returns: converged; stalled on a contact kink and taken at its best
 # iterate (within STALL_FACTOR of the tolerance); not converged.
 CONVERGED, STALLED, NOT_CONVERGED = range(3)

@@ -64,7 +64,7 @@ def periodic_scene(scene):
 
 
 def find_orbit(phi: FECycleMap, start: np.ndarray | None = None,
-               drive_force: float | None = None) -> Orbit:
+               drive_force: float | None = None, stability: bool = True) -> Orbit:
     """Shoot for the periodic steady state of the cycle map ``phi`` (FECycleMap: the
     prepared integrator's compiled step, loaded; its scene's step puts phi.steps steps
     in a cycle). ``start``: a neighbour's orbit state (Orbit.z, unscaled) on the same
@@ -73,7 +73,8 @@ def find_orbit(phi: FECycleMap, start: np.ndarray | None = None,
     or under the steady sliding force F_d0 where it is not given. Never raises for a
     failed or unstable orbit: the Orbit says. Its solver_time_s counts from here: the
     compiled step was loaded with phi, as the stepped run's loop time counts from its
-    first step."""
+    first step. ``stability`` False: no Floquet multipliers, the orbit taken as stable
+    (fem/step_error.py: the same orbit at half the step, where the answer's was judged)."""
     begin = perf_counter()
     scene = phi.scene
     steps = phi.steps
@@ -93,7 +94,9 @@ def find_orbit(phi: FECycleMap, start: np.ndarray | None = None,
     cycle = np.empty((steps, phi.recorder.row.size))
     z = shot.z * phi.scale
     smooth = None
-    if shot.converged:
+    if shot.converged and not stability:
+        _, cycle = phi.raw_cycle(z, rows=True)
+    elif shot.converged:
         smooth = _smooth_map(phi)
         x = shot.z
         multipliers, _ = largest_multipliers(smooth, x, smooth(x), FD_STEP)

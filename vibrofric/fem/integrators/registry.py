@@ -29,13 +29,12 @@ The integrators, all driving the same per-node friction law (model/contact.py):
                any dt that resolves the vibration (>= 10 steps a cycle)
     reduced    the same on a Craig-Bampton reduction of the block to its contact
                face, drive and modes below fem.cutoff * f (reduction.py)
-    auto       the cheapest of those that meets fem.accuracy (choose() below)
+    auto       the cheapest of those at a coarse first step (choose() below), its step
+               refined until its estimated error meets time.accuracy (fem/step_error.py)
 """
 
 from ...core.errors import Refusal, StepTooLong
-from ...core.law_limits import slip_per_step
 from . import step_cost
-from .contact_solve import TRUSTED_SLIP_PER_STEP
 from .explicit import ExplicitRun
 from .generalized_alpha import full_system
 from .implicit import ImplicitRun
@@ -48,36 +47,29 @@ def implicit_run(scene, model) -> ImplicitRun:
 
 
 def choose(scene, model):
-    """fem.integrator = "auto": the cheapest integrator that meets fem.accuracy.
+    """fem.integrator = "auto": the cheapest integrator at the scene's step (the first
+    step auto tries, fem/step_error.py, which then refines the step by its estimated
+    error until it meets time.accuracy).
 
-    All three run the scene's steps of time.dt, so the cheapest is the one with
-    the cheapest step (cost_per_step, calibrated in step_cost.COST). Candidates:
+    All three run the same steps, so the cheapest is the one with the cheapest step
+    (cost_per_step, calibrated in step_cost.COST). Candidates:
 
     explicit  the full model, where time.dt is below its stable step
-    reduced   where its measured reduction error (reduction.py: the face's
-              dynamic compliance against the full model's, taken as an F_dv
-              error) is within fem.accuracy
+    reduced   where its reduction error (reduction.py: the face's dynamic
+              compliance against the full model's, computed for the scene, taken as
+              an F_dv error) is within fem.accuracy: a model error, which no
+              step removes
     implicit  the full model; prepared (factorized) only when neither of the
               others qualifies or its estimated cost (step_cost.estimated_cost)
               is below theirs: it always costs more than explicit at the same
               step, but less than a reduced model that keeps hundreds of modes
               (an ultrasonic base)
 
-    reduced and implicit only where a step slides at most
-    contact_solve.TRUSTED_SLIP_PER_STEP sliding lengths (a stiff contact
-    slides more: then explicit, whose step the mesh limits). Otherwise the
-    time-step error is time.dt's, the same for all three. Returns the prepared
-    run, its ``choice`` saying what was picked and why.
+    Returns the prepared run, its ``choice`` saying what was picked and why.
     """
     accuracy = scene.fem.accuracy
     reasons, candidates = [], []
-    slip = slip_per_step(scene)
-    implicit_trusted = slip <= TRUSTED_SLIP_PER_STEP
-    if not implicit_trusted:
-        reasons.append(f"reduced and implicit: a step slides {slip:.3g} s_c > "
-                       f"{TRUSTED_SLIP_PER_STEP:g} (a stiff contact; time.dt <= "
-                       f"{scene.time.dt * TRUSTED_SLIP_PER_STEP / slip:.3g} s would do)")
-    for name in ("explicit", "reduced") if implicit_trusted else ("explicit",):
+    for name in ("explicit", "reduced"):
         try:
             run = INTEGRATORS[name](scene, model)
         except Refusal as error:
@@ -93,16 +85,19 @@ def choose(scene, model):
                            f"fem.accuracy {accuracy:g}")
         candidates.append(run)
     cheapest = min((run.cost_per_step for run in candidates), default=float("inf"))
-    if implicit_trusted and step_cost.estimated_cost(scene, model) < cheapest:
-        candidates.append(implicit_run(scene, model))
-        reasons.append("implicit: the full model at any time.dt")
+    if step_cost.estimated_cost(scene, model) < cheapest:
+        try:
+            candidates.append(implicit_run(scene, model))
+            reasons.append("implicit: the full model at any time.dt")
+        except Refusal as error:
+            reasons.append(f"implicit refused ({error})")
     if not candidates:
-        raise StepTooLong(f"time step {scene.time.dt:g} s: no integrator meets fem.accuracy "
-                          f"{accuracy:g} at it: " + "; ".join(reasons))
+        raise StepTooLong(f"time step {scene.time.dt:g} s: no integrator runs it within "
+                          f"fem.accuracy {accuracy:g}: " + "; ".join(reasons))
     best = min(candidates, key=lambda run: run.cost_per_step)
     costs = ", ".join(f"{run.name} {run.cost_per_step / 1e3:.3g}" for run in candidates)
-    best.choice = (f"{best.name}: the cheapest that meets fem.accuracy {accuracy:g} "
-                   f"(estimated us a step: {costs}); " + "; ".join(reasons))
+    best.choice = (f"{best.name}: the cheapest at {scene.time.dt:.4g} s within fem.accuracy "
+                   f"{accuracy:g} (estimated us a step: {costs}); " + "; ".join(reasons))
     return best
 
 

@@ -172,11 +172,23 @@ def build_model(scene, comm) -> FEModel:
     return _kept[key]
 
 
+MODEL_FACES = (meshes.CONTACT, meshes.TOP, meshes.FRONT)
+
+
+def cached_levels(scene) -> list[str]:
+    """The refinement levels other than fem.mesh whose block for ``scene`` is cached
+    (model_cache.cached_levels): the meshes a mesh error can be had from cheaply."""
+    body = scene.body
+    return [level for level in model_cache.cached_levels(body.size, body.E, body.nu,
+                                                         density(scene), MODEL_FACES)
+            if level != scene.fem.mesh]
+
+
 def _built(scene, comm) -> FEModel:
     body = scene.body
     rho = density(scene)
     disc = model_cache.block(comm, body.size, scene.fem.mesh, body.E, body.nu, rho,
-                             faces=(meshes.CONTACT, meshes.TOP, meshes.FRONT))
+                             faces=MODEL_FACES)
 
     block_mass = rho * disc.volume
     top = disc.face_area[meshes.TOP]

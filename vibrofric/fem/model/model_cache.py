@@ -44,6 +44,7 @@ import scipy.sparse as sp
 
 from ... import __version__, disk_cache
 from ...friction_law.contract import package_hash
+from ...meshes import LEVELS
 from . import dolfinx_adapter
 from .assembly import Discretization, assemble_block
 
@@ -139,11 +140,24 @@ def block(comm, size, level, E, nu, density, faces) -> Discretization:
     """assembly.assemble_block's Discretization, from the cache when it holds it
     (``comm`` None: MPI.COMM_SELF, started only if DOLFINx is needed)."""
     faces = tuple(faces)
-    parts = {"size": [float(s) for s in size], "level": level, "E": float(E), "nu": float(nu),
-             "density": float(density), "faces": list(faces), "dolfinx": dolfinx_version()}
+    parts = _block_parts(size, level, E, nu, density, faces)
 
     def build():
         return _packed(assemble_block(dolfinx_adapter.communicator(comm), size, level, E, nu,
                                       density, faces), faces)
 
     return _unpacked(cached("block", parts, build), level, faces)
+
+
+def _block_parts(size, level, E, nu, density, faces) -> dict:
+    """What a block's entry is computed from (its key)."""
+    return {"size": [float(s) for s in size], "level": level, "E": float(E), "nu": float(nu),
+            "density": float(density), "faces": list(faces), "dolfinx": dolfinx_version()}
+
+
+def cached_levels(size, E, nu, density, faces) -> list[str]:
+    """The refinement levels (meshes.LEVELS) whose block of these inputs the cache holds."""
+    if not enabled():
+        return []
+    return [level for level in LEVELS
+            if entry_path("block", _block_parts(size, level, E, nu, density, tuple(faces))).exists()]
