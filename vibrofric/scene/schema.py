@@ -124,19 +124,20 @@ class Time:
                                            # 0: run to T (fem/outputs/steady.py)
     steady_cycles: int = 0                 # vibration cycles the settled average must hold;
                                            # 0: those of the averaging window
-    settle_tolerance: float = 0.005        # a result is "settled" when its drive-force mean moved
-                                           # by at most this fraction between the last two
-                                           # averaging windows (analytic/summary.py)
-    accuracy: float = 1e-3                 # absolute on F_dv/F_d0: an answer whose step-error
-                                           # estimate exceeds it is given with a warning naming
-                                           # a step that meets it (analytic/accuracy.py)
+    settle_tolerance: float = 0.005        # a stepped result is "settled" when the drift of its
+                                           # drive-force mean still to come, from the decay of
+                                           # successive windows' means, is at most this fraction
+                                           # (core/settling.py)
     method: str = "auto"                   # "auto" or "periodic": the steady cycle by shooting
                                            # (analytic/periodic.py, fem/integrators/periodic.py),
                                            # stepped through T where it does not converge or is
                                            # not stable, saying so; "transient": step through T
-    accuracy: float = 1e-3                 # the error of F_dv / F_d0 (absolute) an answer should meet;
-                                           # FE: fem.integrator "auto" refines its step until its
-                                           # estimate does (fem/step_error.py)
+    accuracy: float = 1e-3                 # the error of F_dv / F_d0 (absolute) an answer should
+                                           # meet: one whose estimate exceeds it is given with a
+                                           # warning naming a step that meets it
+                                           # (analytic/accuracy.py); FE: fem.integrator "auto"
+                                           # refines its step until its estimate does
+                                           # (fem/step_error.py)
     error_estimate: typing.Union[str, bool] = "auto"  # FE: the step's error from a second run at
                                            # dt / 2. true: always; false: never; "auto": where that
                                            # is cheap, a steady cycle (time.method periodic / auto)
