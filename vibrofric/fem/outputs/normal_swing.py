@@ -122,9 +122,8 @@ def rule_note(swing: float, rule: str) -> str | None:
     if swing <= RULE_MATTERS:
         return None
     other = "nominal" if rule == "nodal" else "nodal"
-    return (f"the contact nodes' normal forces swing by {swing:.0%} of their mean over the "
-            f"averaging window (the block pitches): the answer depends on the normal-force "
-            f"rule, here fem.normal_force = \"{rule}\"; compare \"{other}\"")
+    return (f"the nodes' normal forces swing by {swing:.0%} over the cycle, so the answer "
+            f"depends on fem.normal_force (\"{rule}\"; compare \"{other}\")")
 
 
 def _swings(values, F_N: float) -> bool:
