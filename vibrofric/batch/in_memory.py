@@ -9,6 +9,7 @@ from tqdm import tqdm
 
 from ..analytic.continuation import chunks, run_in_sequence
 from ..analytic.solve import solve
+from ..friction_law.specialize import specialized_first
 from ..grid import grid_points
 from ..parallel import default_workers, run_on_pool
 
@@ -30,6 +31,7 @@ def _run_chunk(task):
     return [{**values, **summary} for values, summary in zip(points, run_in_sequence(scene, points))]
 
 
+@specialized_first
 def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> list[dict]:
     """Run the analytic stepper at every grid point; results in grid order.
 

@@ -21,6 +21,7 @@ from tqdm import tqdm
 
 from .. import budget, output, plots
 from .. import scene as scene_module
+from ..friction_law.specialize import specialized_first
 from ..grid import point_name
 from ..parallel import default_workers, interruptible, run_on_pool
 from . import mpi
@@ -317,6 +318,7 @@ def expected_cost(point) -> float:
     return 1.0 + point.scene.vibration.k_v
 
 
+@specialized_first
 def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = False) -> Outcome:
     """Run ``mode`` ("analytic" or "fe") at every point of ``grid`` into ``out``
     (default results/<scene>-sweep-<time>/), resuming what is there, on
