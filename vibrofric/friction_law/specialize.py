@@ -209,6 +209,10 @@ def law_pointers(law) -> "through_pointer.LawPointers":
     from numba's cache, or compiled now, announced) and their addresses."""
     pointers = _LAW_POINTERS.get(law.fingerprint)
     if pointers is None:
+        if law.name not in BUILT_IN:
+            announce(f"{law_label(law)}: its update compiled (when the scene was read), the "
+                     "loops call it through a pointer on this first run; the loops of its own "
+                     "are compiled after the run, in the background")
         update, energy = _called(law, "update"), _called(law, "stored_energy")
         ready(update, through_pointer.UPDATE.args, f"the update of {law_label(law)}")
         ready(energy, through_pointer.ENERGY.args, f"the stored energy of {law_label(law)}")
