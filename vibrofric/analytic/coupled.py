@@ -110,16 +110,15 @@ def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
     cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
     law = scene.friction
     state, carried = law.law.initial_state(1)[0], at_rest()
-    # The arguments before and after (first, last), made once: the chunks' calls go
-    # straight to the compiled code (prepared's direct: no dispatch, no argument typed
-    # again), as a single call over every step would.
-    before = (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
-              scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
-              scene.contact.eta_y, scene.contact.F_N, state, law.params, scene.time.dt)
-    after = (plan.stride, plan.full_from, divergence_force(scene), carried, out)
-    loop = coupled_loop.prepared(law.law, (*before, 1, 0, *after), "the coupled analytic stepper",
-                                 direct=True)
-    return run_in_chunks(plan.steps, lambda first, last: loop(*before, first, last, *after))
+
+    def args(first, last):
+        return (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
+                scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
+                scene.contact.eta_y, scene.contact.F_N, state, law.params, scene.time.dt,
+                first, last, plan.stride, plan.full_from, divergence_force(scene), carried, out)
+
+    loop = coupled_loop.prepared(law.law, args(1, 0), "the coupled analytic stepper")
+    return run_in_chunks(plan.steps, lambda first, last: loop(*args(first, last)))
 
 
 def load_coupled(scene) -> None:

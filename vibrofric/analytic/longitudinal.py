@@ -57,14 +57,15 @@ def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
     returns the failing step, or 0."""
     law = scene.friction
     state, carried = law.law.initial_state(1)[0], at_rest()
-    # Made once, called straight (see coupled._run_loop).
-    before = (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
-              scene.u0, scene.omega, scene.vibration.t_on, scene.contact.F_N, state,
-              law.params, scene.time.dt)
-    after = (plan.stride, plan.full_from, divergence_force(scene), carried, out)
-    loop = longitudinal_loop.prepared(law.law, (*before, 1, 0, *after),
-                                      "the longitudinal analytic stepper", direct=True)
-    return run_in_chunks(plan.steps, lambda first, last: loop(*before, first, last, *after))
+
+    def args(first, last):
+        return (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
+                scene.u0, scene.omega, scene.vibration.t_on, scene.contact.F_N, state,
+                law.params, scene.time.dt, first, last, plan.stride, plan.full_from,
+                divergence_force(scene), carried, out)
+
+    loop = longitudinal_loop.prepared(law.law, args(1, 0), "the longitudinal analytic stepper")
+    return run_in_chunks(plan.steps, lambda first, last: loop(*args(first, last)))
 
 
 def load_longitudinal(scene) -> None:
