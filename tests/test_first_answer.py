@@ -225,7 +225,10 @@ def _new_law(tmp_path, elements: int) -> str:
 
 
 def _analytic(tmp_path, scene="scenes/longitudinal.toml", numba_cache=None):
-    env = child_environment(**({"NUMBA_CACHE_DIR": str(numba_cache)} if numba_cache else {}))
+    # The loops specialized for the law at its first run (through_pointer.py: the route of
+    # a law's first runs, with the default VIBROFRIC_SPECIALIZE=later, tests/test_through_pointer.py)
+    env = child_environment(VIBROFRIC_SPECIALIZE="now",
+                            **({"NUMBA_CACHE_DIR": str(numba_cache)} if numba_cache else {}))
     done = subprocess.run(
         [sys.executable, "-m", "vibrofric.cli", "analytic", str(scene),
          "--set", "time.T=0.02", "--set", "vibration.t_on=0.005", "--set", "time.average_cycles=4",
@@ -256,6 +259,7 @@ def test_will_compile_sees_memory_and_disk(tmp_path, monkeypatch):
     from vibrofric.analytic.coupled import coupled_loop, load_coupled
 
     monkeypatch.chdir(ROOT)
+    monkeypatch.setenv("VIBROFRIC_SPECIALIZE", "now")   # not through the law's pointer
     scene = scene_module.load(ROOT / "scenes" / "longitudinal.toml").with_law(_new_law(tmp_path, 7))
     law = scene.friction.law
     args = (0.5, 1.0, 1.0, False, 1.0, 1.0, 0.0, 1.0, 0.0, 0.0, 55.0,
@@ -379,7 +383,8 @@ def test_a_new_law_compiles_its_loops_not_their_law_free_parts(tmp_path):
 
     for which in ("dahl", law):
         done = subprocess.run([sys.executable, "-c", code, which], cwd=ROOT, timeout=1200,
-                              env=child_environment(NUMBA_CACHE_DIR=str(cache)),
+                              env=child_environment(NUMBA_CACHE_DIR=str(cache),
+                                                    VIBROFRIC_SPECIALIZE="now"),
                               capture_output=True, text=True)
         assert done.returncode == 0, done.stderr[-2000:]
         if which == "dahl":
@@ -407,8 +412,8 @@ def test_a_new_law_gives_the_same_bits_compiled_and_loaded_from_the_cache(tmp_pa
             "'time.dt': 1e-5})).series.table() for i in ('implicit', 'reduced')})")
     for name in ("compiled", "loaded"):
         done = subprocess.run([sys.executable, "-c", code, law, str(tmp_path / name)],
-                              cwd=ROOT, env=child_environment(), capture_output=True,
-                              text=True, timeout=1200)
+                              cwd=ROOT, env=child_environment(VIBROFRIC_SPECIALIZE="now"),
+                              capture_output=True, text=True, timeout=1200)
         assert done.returncode == 0, done.stderr[-2000:]
         assert ("compiling" in done.stderr) == (name == "compiled"), done.stderr
     compiled, loaded = np.load(tmp_path / "compiled.npz"), np.load(tmp_path / "loaded.npz")

@@ -21,7 +21,8 @@ def run_analytic(scene: Path, out: Path) -> str:
     """F_dv/F_d0 of ``vibrofric analytic`` in a fresh process (numba's disk cache only)."""
     done = subprocess.run([sys.executable, "-m", "vibrofric.cli", "analytic", str(scene),
                            "--set", "time.T=0.2", "--out", str(out), "--json"],
-                          capture_output=True, text=True, check=True, cwd=ROOT)
+                          capture_output=True, text=True, check=True, cwd=ROOT,
+                          env={**os.environ, "VIBROFRIC_SPECIALIZE": "now"})  # the law's own loops
     return done.stdout.split('"F_dv_over_F_d0": ')[1].split(",")[0]
 
 

@@ -3,11 +3,16 @@
 numba compiles every time loop for each friction law (friction_law/specialize.py)
 and keeps what it compiled on disk. This runs a few steps of the Fig 7 scene
 with each built-in law through each stepper and integrator, shot for its steady
-cycle and stepped (METHODS), so that numba's
-cache holds every built-in law's loops and the model cache (fem/model/model_cache.py)
-the default block: the first ``vibrofric run`` or ``analytic`` after
-``make setup`` (which runs this) compiles nothing. A user's law still
-compiles on its first run, and says so.
+cycle and stepped (METHODS); the same with the law called through its pointer
+(friction_law/through_pointer.py: the loops a user's law runs on its first runs,
+compiled once for every law); and each shipped scene (SHIPPED: its own block,
+the 2 kg one of coupled and transverse, and its own motion) through each
+integrator, both ways, alone and as a sweep's point (the model's arrays
+read-only, a type of their own to numba). So numba's cache holds those loops and the model cache
+(fem/model/model_cache.py) the shipped scenes' blocks: the first ``vibrofric
+run``, ``analytic`` or ``sweep`` of a shipped scene after ``make setup`` (which
+runs this) compiles nothing, and a user's law's first run compiles its update
+alone, and says so.
 
 It says what it does in one line; the libraries' own chatter while it
 builds the FE model for the first time (FFCx compiling DOLFINx's forms: its
@@ -18,12 +23,14 @@ every ``vibrofric`` command (cli.py).
 
 import itertools
 import sys
+from pathlib import Path
 
 from .friction_law.contract import BUILT_IN
-from .friction_law.specialize import unannounced
+from .friction_law.specialize import pointer_route, unannounced
 from .library_logs import quiet_libraries
 
-# The paper's Fig 7 scene (scenes/longitudinal.toml), a few cycles long.
+# The paper's Fig 7 scene (scenes/longitudinal.toml), a few cycles long: every built-in
+# law's loops.
 SCENE = {
     "body": {"mass": 0.5},
     "contact": {"law": "dahl", "mu": 0.1, "F_N": 55.0, "k_t": 80e6},
@@ -37,30 +44,57 @@ STEPPERS = {"coupled": tuple(BUILT_IN), "longitudinal": ("dahl",)}   # longitudi
 # The steady cycle's shooting (the default, "auto") and the stepped run (its fallback, and
 # "transient"): each compiles its own loops.
 METHODS = ("periodic", "transient")
+# Every shipped scene (vibrofric/scenes), run as it is but a few cycles long, through the
+# FE integrators by both methods, alone and as a sweep's point: its own block (the 2 kg
+# one of coupled and transverse: its FE model built and cached) and its own motion.
+SCENE_FILES = Path(__file__).resolve().parent / "scenes"
+SHIPPED = ("coupled", "longitudinal", "transverse")
+SHORT = {"time.T": 0.004, "vibration.t_on": 0.001, "time.average_cycles": 4,
+         "fem.output_every": 0}
 
 
 def warm(fe: bool = True) -> None:
-    """Load or compile every built-in law's loops (and build the default FE model)."""
+    """Load or compile every built-in law's loops, those a user's law runs through on
+    its first runs (friction_law/through_pointer.py), and the shipped scenes' (with
+    ``fe``, their FE models built)."""
     from . import scene as scene_module
     from .analytic.solve import solve
 
     print("vibrofric: compiling the built-in friction laws' loops (" + ", ".join(BUILT_IN)
-          + ") for the analytic steppers" + (" and every FE integrator, and building the "
-                                             "default block's FE model" if fe else "")
-          + ": once, at set-up", file=sys.stderr, flush=True)
-    base = scene_module.from_dict(SCENE, "warm")
-    with unannounced():
-        for law, method in itertools.product(BUILT_IN, METHODS):
-            scene = (base if law == "dahl" else base.with_law(law)).with_values(
+          + ") and those for every law, for the analytic steppers"
+          + (" and every FE integrator, and building the shipped scenes' FE models" if fe
+             else "") + ": once, at set-up", file=sys.stderr, flush=True)
+
+    def run(scene, laws=BUILT_IN, as_sweep_points=False):
+        """The scene through the steppers and (with ``fe``) every integrator, stepped and
+        shot for its steady cycle, with each of ``laws``; ``as_sweep_points``: the FE runs
+        once more as a sweep's points run (their shared model's arrays read-only:
+        fe_model.kept_between_runs, which numba compiles loops of their own for)."""
+        for law, method in itertools.product(laws, METHODS):
+            with_law = (scene if law == scene.contact.law else scene.with_law(law)).with_values(
                 {"time.method": method})
-            for stepper, laws in STEPPERS.items():
-                if law in laws:
-                    solve(scene, stepper, estimate=False)   # the same loops: compiled
+            for stepper, stepper_laws in STEPPERS.items():
+                if law in stepper_laws:
+                    solve(with_law, stepper, estimate=False)   # the same loops: compiled
             if fe:
                 from .fem import run_fe
+                from .fem.model.fe_model import kept_between_runs
 
                 for integrator, dt in INTEGRATORS.items():
-                    run_fe(scene.with_values({"fem.integrator": integrator, "time.dt": dt}))
+                    fe_scene = with_law.with_values({"fem.integrator": integrator, "time.dt": dt})
+                    run_fe(fe_scene)
+                    if as_sweep_points:
+                        with kept_between_runs():
+                            run_fe(fe_scene)
+
+    base = scene_module.from_dict(SCENE, "warm")
+    with unannounced():
+        run(base)
+        with pointer_route():
+            run(base, ("dahl",))
+        for name in SHIPPED:
+            run(scene_module.load(SCENE_FILES / f"{name}.toml").with_values(SHORT), ("dahl",),
+                as_sweep_points=True)
 
 
 if __name__ == "__main__":

@@ -160,8 +160,8 @@ class CycleMap:
         s = self.scene
         state = self.law.law.initial_state(1)[0].copy()
         v_d = s.drive.v_d
-        f = preslide.for_law(self.law.law)(state, v_d * self.dt, s.contact.F_N, self.params,
-                                           self.dt, PRESLIDE_STEPS)
+        args = (state, v_d * self.dt, s.contact.F_N, self.params, self.dt, PRESLIDE_STEPS)
+        f = preslide.prepared(self.law.law, args, "the pre-sliding steps")(*args)
         z = np.zeros(self.size)
         z[X] = 0.0 if s.drive.prescribed else -f / s.drive.k_d - v_d * self.dt
         z[VX] = v_d

@@ -11,6 +11,7 @@ from tqdm import tqdm
 
 from ..analytic.continuation import run_in_sequence
 from ..analytic.solve import solve
+from ..friction_law.specialize import specialized_first
 from ..grid import grid_points
 from ..parallel import run_on_pool, worker_count
 from .lanes import lanes
@@ -33,6 +34,7 @@ def _run_lane(task):
     return [{**values, **summary} for values, summary in zip(points, run_in_sequence(scene, points))]
 
 
+@specialized_first
 def sweep(scene, grid, workers: int | None = None, progress: bool = True) -> list[dict]:
     """Run the analytic stepper at every grid point; results in grid order.
 

@@ -21,6 +21,7 @@ from tqdm import tqdm
 
 from .. import budget, output, plots
 from .. import scene as scene_module
+from ..friction_law.specialize import specialized_first
 from ..grid import canonical_grid, grid_size, point_name, samples
 from ..parallel import interruptible, run_on_pool, worker_count
 from . import mpi
@@ -300,6 +301,7 @@ def expected_cost(point) -> float:
     return 1.0 + point.scene.vibration.k_v
 
 
+@specialized_first
 def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = False,
               oversubscribe: bool = False, announce=None) -> Outcome:
     """Run ``mode`` ("analytic" or "fe") at every point of ``grid`` into ``out``

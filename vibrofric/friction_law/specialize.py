@@ -40,9 +40,20 @@ one at a time under a lock beside numba's cache files: the first one
 compiles and writes the cache, the others load it. A cache entry that fails
 to load (damaged, or written by an incompatible build) is dropped and the
 loop compiled anew.
+
+A user's law never seen before is first run through its pointer
+(through_pointer.py: ``loop.through_pointer()``, the loops compiled once for
+every law at set-up), its update alone compiled, while the loops specialized for
+it are compiled after the run, in the background (specialize_later.py); its
+next runs load those. The two give the same results or differ at rounding level
+(docs/first-answer.md); a sweep compiles the specialized loops first
+(``specialized_first``), so that every sweep runs the same code.
+VIBROFRIC_SPECIALIZE=now compiles them at first use instead, as before.
 """
 
+import functools
 import hashlib
+import os
 import sys
 import threading
 import types
@@ -51,10 +62,12 @@ from pathlib import Path
 
 from llvmlite.binding import Linkage
 from numba import njit
+from numba import types as numba_types
 
 from ..disk_cache import locked
-from .contract import BUILT_IN, FASTMATH, LawError
-from .law_cache import cache_in_user_directory
+            if self.options.get("cache") and user_law:
+                cache_in_user_directory(compiled)   # not the package's __pycache__
+            self._compiled[fingerprint] = compiled
 
 KEPT_VERSIONS = 8  # compiled versions of a loop kept on disk (laws in use, package edits)
 
@@ -74,26 +87,41 @@ class LawKernel:
 
     def for_law(self, law):
         """This function compiled with ``law``'s update (a numba dispatcher)."""
-        compiled = self._compiled.get(law.fingerprint)
+        return self._compiled_with(law.fingerprint, lambda kernel: kernel.for_law(law),
+                                   _called(law, "update"), _called(law, "stored_energy"),
+                                   user_law=law.name not in BUILT_IN)
+
+    def through_pointer(self):
+        """This function compiled once for every law, calling the law through the
+        pointer in through_pointer.py's slots (a numba dispatcher; see ``prepared``)."""
+        return self._compiled_with(pointer_fingerprint(), LawKernel.through_pointer,
+                                   through_pointer.law_update, through_pointer.law_energy)
+
+    def _compiled_with(self, fingerprint: str, callees, update, energy, user_law=False):
+        """This function with ``update`` and ``energy`` as its ``law_update`` and
+        ``law_energy``, the law kernels it calls made by ``callees``, compiled by numba
+        under a name carrying ``fingerprint``; cached under the user's cache directory
+        where it is a user's law's (``user_law``), else beside the package's source."""
+        compiled = self._compiled.get(fingerprint)
         if compiled is None:
             namespace = dict(self.py_func.__globals__)
-            namespace["law_update"] = _called(law, "update")
-            namespace["law_energy"] = _called(law, "stored_energy")
+            namespace["law_update"] = update
+            namespace["law_energy"] = energy
             f = self.py_func
             for name in f.__code__.co_names:  # the law kernels this one calls
                 value = namespace.get(name)
                 if isinstance(value, LawKernel) and value is not self:
-                    namespace[name] = value.for_law(law)
+                    namespace[name] = callees(value)
             function = types.FunctionType(f.__code__, namespace, f.__name__, f.__defaults__,
                                           f.__closure__)
-            function.__qualname__ = f"{f.__qualname__}__{law.fingerprint}"
+            function.__qualname__ = f"{f.__qualname__}__{fingerprint}"
             function.__module__ = f.__module__
             function.__doc__ = f.__doc__
-            _LAW_FINGERPRINTS.add(law.fingerprint)
+            _LAW_FINGERPRINTS.add(fingerprint)
             compiled = njit(**self.options)(function)
-            if self.options.get("cache") and law.name not in BUILT_IN:
+            if self.options.get("cache") and user_law:
                 cache_in_user_directory(compiled)   # not the package's __pycache__
-            self._compiled[law.fingerprint] = compiled
+            self._compiled[fingerprint] = compiled
             if self.options.get("cache"):
                 _prune(compiled, f"{Path(f.__code__.co_filename).stem}.{f.__qualname__}__")
         return compiled
@@ -103,15 +131,100 @@ class LawKernel:
         (announced: "compiling <what> for <law>, first run only"); see the module. For a
         user's law, an exception out of it is the law's (blamed_on_law).
 
+        A user's law whose specialized function is neither in memory nor in numba's
+        cache is run through the law's pointer instead (``through_pointer``, loaded
+        from the cache: compiled at set-up), its update alone compiled now; the
+        specialized function is compiled after the run, in the background
+        (specialize_later.py), for the next runs. Once chosen for a function, law and
+        types, the route is kept for the rest of the process.
+
         With ``direct``, the compiled code for ``args``' types itself, called without
         numba's dispatch, which types every argument again at each call to pick that
         code (for the FE steps' tuples of arrays, as long as a whole base cycle of the
         reduced step, which the shooting calls once a cycle: docs/periodic.md). Only
         for a caller that passes arguments of those same types at every call."""
         dispatcher = self.for_law(law)
-        sig = ready(dispatcher, args, f"{what} for {law_label(law)}")
+        sig = signature(dispatcher, args)
+        pointers = None
+        if _forced_pointer[0]:
+            pointers = law_pointers(law)
+        elif law.name not in BUILT_IN and specialize_when() == "later":
+            route = (self, law.fingerprint, sig)
+            pointers = _THROUGH_POINTER.get(route)
+            if pointers is None and will_compile(dispatcher, sig):
+                pointers = _THROUGH_POINTER[route] = law_pointers(law)
+                from .specialize_later import schedule
+                schedule(self, law, sig)
+        if pointers is not None:
+            dispatcher = self.through_pointer()
+            sig = ready(dispatcher, sig, f"{what}, for every law")
+        else:
+            ready(dispatcher, sig, f"{what} for {law_label(law)}")
         function = dispatcher.overloads[sig].entry_point if direct else dispatcher
+        if pointers is not None:
+            function = pointers.calling(function)
         return function if law.name in BUILT_IN else blamed_on_law(law, function)
+
+
+_THROUGH_POINTER = {}   # (kernel, law's fingerprint, types) -> the law's LawPointers
+_LAW_POINTERS = {}      # law's fingerprint -> its LawPointers
+_forced_pointer = [False]
+
+
+def specialize_when() -> str:
+    """When a user's law's specialized loops are compiled (``VIBROFRIC_SPECIALIZE``):
+    "later" (its first runs call it through a pointer while they compile in the
+    background: the default) or "now" (at first use, before the run)."""
+    when = os.environ.get("VIBROFRIC_SPECIALIZE", "later")
+    if when not in ("later", "now"):
+        raise ValueError(f"VIBROFRIC_SPECIALIZE must be \"later\" or \"now\", got {when!r}")
+    return when
+
+
+def specialized_first(function):
+    """Decorator for a sweep: a user's law's specialized loops are compiled (or loaded)
+    before its points run (VIBROFRIC_SPECIALIZE=now, in its process and its workers'),
+    so that every point of every sweep runs the same code: the pointer's and the
+    specialized loops' results may differ at rounding level (docs/first-answer.md)."""
+    @functools.wraps(function)
+    def run(*args, **kwargs):
+        before = os.environ.get("VIBROFRIC_SPECIALIZE")
+        os.environ["VIBROFRIC_SPECIALIZE"] = "now"
+        try:
+            return function(*args, **kwargs)
+        finally:
+            if before is None:
+                del os.environ["VIBROFRIC_SPECIALIZE"]
+            else:
+                os.environ["VIBROFRIC_SPECIALIZE"] = before
+    return run
+
+
+@contextmanager
+def pointer_route():
+    """Run every law, built-in ones too, through its pointer (the loops compiled for
+    every law: vibrofric.warm compiles them at set-up; tests compare the routes)."""
+    _forced_pointer[0] = True
+    try:
+        yield
+    finally:
+        _forced_pointer[0] = False
+
+
+def law_pointers(law) -> "through_pointer.LawPointers":
+    """The law's update and stored energy compiled for the pointer's signature (loaded
+    from numba's cache, or compiled now, announced) and their addresses."""
+    pointers = _LAW_POINTERS.get(law.fingerprint)
+    if pointers is None:
+        if law.name not in BUILT_IN:
+            announce(f"{law_label(law)}: its update compiled (when the scene was read), the "
+                     "loops call it through a pointer on this first run; the loops of its own "
+                     "are compiled after the run, in the background")
+        update, energy = _called(law, "update"), _called(law, "stored_energy")
+        ready(update, through_pointer.UPDATE.args, f"the update of {law_label(law)}")
+        ready(energy, through_pointer.ENERGY.args, f"the stored energy of {law_label(law)}")
+        pointers = _LAW_POINTERS[law.fingerprint] = through_pointer.LawPointers(update, energy)
+    return pointers
 
 
 def blamed_on_law(law, dispatcher):
@@ -124,11 +237,12 @@ def blamed_on_law(law, dispatcher):
     def run(*args):
         try:
             return dispatcher(*args)
-        except IndexError:
-            raise LawError(f"{law.name}: update indexed outside its state (STATE_SIZE = "
-                           f"{law.state_size}) or its parameters during the run, past the "
-                           "first steps checked when it was loaded") from None
-        except Exception as err:
+        except Exception as raised:   # through the law's pointer: LawRaised, from the law's
+            err = raised.__cause__ if isinstance(raised, through_pointer.LawRaised) else raised
+            if isinstance(err, IndexError):
+                raise LawError(f"{law.name}: update indexed outside its state (STATE_SIZE = "
+                               f"{law.state_size}) or its parameters during the run, past "
+                               "the first steps checked when it was loaded") from None
             raise LawError(f"{law.name}: update raised {type(err).__name__}: {err} during the "
                            "run, past the first steps checked when it was loaded") from None
     return run
@@ -202,6 +316,13 @@ def _called(law, name: str):
     return _CALLED[key]
 
 
+def pointer_fingerprint() -> str:
+    """The name of the loops compiled for every law: the package's sources (a loop's
+    law kernels live in several files, which numba's cache, keyed by the loop's own
+    file, would not see change)."""
+    return "p" + package_hash()[:15]
+
+
 def law_label(law) -> str:
     """The law as a user named it: a built-in's name, a law file's name, a module's name."""
     return Path(law.name).name if law.name.endswith(".py") else law.name
@@ -234,10 +355,18 @@ def signature(dispatcher, args) -> tuple:
     return tuple(dispatcher.typeof_pyval(value) for value in args)
 
 
+def _as_signature(dispatcher, args) -> tuple:
+    """``args``' numba types, or ``args`` itself if it holds numba types (a signature)."""
+    if isinstance(args, tuple) and all(isinstance(value, numba_types.Type) for value in args):
+        return args
+    return signature(dispatcher, args)
+
+
 def will_compile(dispatcher, args) -> bool:
-    """Whether calling ``dispatcher`` with ``args`` compiles: neither in memory nor in
-    numba's cache index on disk (a cached entry may still fail to load: ``ready``)."""
-    sig = signature(dispatcher, args)
+    """Whether calling ``dispatcher`` with ``args`` (or their types) compiles: neither in
+    memory nor in numba's cache index on disk (a cached entry may still fail to load:
+    ``ready``)."""
+    sig = _as_signature(dispatcher, args)
     if sig in dispatcher.overloads:
         return False
     cache = dispatcher._cache          # numba's FunctionCache (NullCache without cache=True)
@@ -262,14 +391,14 @@ def _compile_lock(dispatcher):
 
 
 def ready(dispatcher, args, what: str) -> tuple:
-    """Make ``dispatcher``'s code for ``args``' types available in this process: from
-    memory, from numba's cache, or compiled once under the lock, announced. Returns
-    those types (signature), for a caller that needs them too: typing the FE steps'
-    tuples of arrays is not free."""
-    sig = signature(dispatcher, args)
+    """Make ``dispatcher``'s code for ``args``' types (or for ``args``, numba types)
+    available in this process: from memory, from numba's cache, or compiled once under
+    the lock, announced. Returns those types (signature), for a caller that needs them
+    too: typing the FE steps' tuples of arrays is not free."""
+    sig = _as_signature(dispatcher, args)
     if sig in dispatcher.overloads:
         return sig
-    if will_compile(dispatcher, args):
+    if will_compile(dispatcher, sig):
         announce(f"compiling {what}, first run only")
     with _compile_lock(dispatcher):
         try:
