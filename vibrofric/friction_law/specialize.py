@@ -65,9 +65,9 @@ from numba import njit
 from numba import types as numba_types
 
 from ..disk_cache import locked
-            if self.options.get("cache") and user_law:
-                cache_in_user_directory(compiled)   # not the package's __pycache__
-            self._compiled[fingerprint] = compiled
+from . import through_pointer
+from .contract import BUILT_IN, FASTMATH, LawError, package_hash
+from .law_cache import cache_in_user_directory
 
 KEPT_VERSIONS = 8  # compiled versions of a loop kept on disk (laws in use, package edits)
 
