@@ -136,22 +136,38 @@ def test_auto_meets_the_accuracy_it_was_asked_for():
     assert abs(result.F_dv_over_F_d0 - finer.F_dv_over_F_d0) <= 1e-3
 
 
-def test_the_mesh_error_from_a_cached_coarser_block():
-    """A tiny-mesh run caches its block; the coarse run beside it then reports
-    |F(coarse) - F(tiny)| as its mesh error (under time.error_estimate "auto": a coarser
-    level, beside an estimated step error), and adds it to error_estimate."""
+def test_the_one_element_block_is_no_mesh_partner(tmp_path, monkeypatch):
+    """A tiny-mesh run caches its one-element block, which has no contact patch to
+    speak of: the coarse run beside it does not take its difference as a mesh error."""
+    from vibrofric.fem import run_fe
+
+    monkeypatch.setenv("VIBROFRIC_CACHE", str(tmp_path))   # the levels cached: this test's
+
+    run_fe(fig7(**{"fem.mesh": "tiny"}))
+    result = run_fe(fig7())
+    assert result.mesh_error["mesh_error_estimate"] is None
+    assert result.mesh_error["mesh_error_note"].startswith("not estimated")
+
+
+@pytest.mark.slow
+def test_the_mesh_error_from_a_cached_block_of_another_level(tmp_path, monkeypatch):
+    """A coarse run caches its block; a medium run asked for its errors
+    (time.error_estimate true) then reports |F(medium) - F(coarse)| as its mesh error,
+    the same integrator and step on both, and adds it to error_estimate."""
     from vibrofric.fe_beside_analytic import error_keys
     from vibrofric.fem import answer_ratio, run_fe
 
-    tiny = fig7(**{"fem.mesh": "tiny"})
-    tiny_result = run_fe(tiny)
-    assert tiny_result.mesh_error["mesh_error_estimate"] is None   # coarse not run under auto
-    coarse = fig7()
-    result = run_fe(coarse)
-    difference = abs(answer_ratio(result, coarse) - answer_ratio(tiny_result, tiny))
+    monkeypatch.setenv("VIBROFRIC_CACHE", str(tmp_path))   # the levels cached: this test's
+
+    coarse = fig7(**{"time.error_estimate": False})
+    coarse_result = run_fe(coarse)
+    medium = fig7(**{"fem.mesh": "medium", "time.error_estimate": True})
+    result = run_fe(medium)
+    note = result.mesh_error["mesh_error_note"]
+    assert "coarse" in note, note     # the only other level in this test's cache
+    difference = abs(answer_ratio(result, medium) - answer_ratio(coarse_result, coarse))
     assert result.mesh_error["mesh_error_estimate"] == pytest.approx(difference, abs=1e-12)
-    assert "tiny" in result.mesh_error["mesh_error_note"]
-    keys = error_keys(result)
+    keys = error_keys(result, medium)
     assert keys["error_estimate"] == pytest.approx(result.step_error.estimate + difference)
     off = run_fe(fig7(**{"time.error_estimate": False}))
     assert off.mesh_error["mesh_error_note"].startswith("not estimated")
