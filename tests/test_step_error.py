@@ -81,3 +81,21 @@ def test_two_answers_take_the_factor_of_safety_asked_for():
     # the answers are exactly C h^2: Richardson's error at order 2 is exact, times 1.25
     assert est.estimate == pytest.approx(1.25 * (data[0][1] - EXACT), rel=1e-9)
     assert "factor of safety 1.25" in est.note
+
+
+def test_a_fourth_answer_is_the_finer_reference_where_three_scatter():
+    """Answers off the converged one by 6e-6, 1.3e-5, 5e-8, 5.6e-7 (the lumped model on
+    Fig 7 at 250, 500, 1000, 2000 steps a cycle): three scatter, and with the fourth
+    the estimate is |F(h) - F(h/8)| + |F(h/4) - F(h/8)|, within a factor 3 of the
+    true error where the three alone gave |F(h) - F(h/4)| + |F(h/2) - F(h/4)| (2.2 times
+    it)."""
+    from vibrofric.core.step_error import scattered
+
+    offsets = (6.0e-6, 1.3e-5, 5e-8, 5.6e-7)
+    data = [(1e-6 / 2**k, EXACT + e) for k, e in enumerate(offsets)]
+    three = richardson(data[:3], dt_asked=1e-6)
+    assert scattered(three) and three.estimate == pytest.approx(6.0e-6 - 5e-8 + 1.3e-5 - 5e-8)
+    four = richardson(data, dt_asked=1e-6)
+    assert not scattered(four)
+    assert four.estimate == pytest.approx(6.0e-6 - 5.6e-7 + 5.6e-7 - 5e-8)
+    assert 6.0e-6 / 3 <= four.estimate <= 3 * 6.0e-6

@@ -5,9 +5,10 @@ step's error (core/step_error.py): the answer F(h) at the step h the solver used
 (time.dt, or the step nearest it that divides the base's cycle for the periodic
 method: core.shooting.cycle_steps), and the same solver's answers at h/2 and h/4:
 
-- a periodic answer: the orbits with 2n and 4n steps a cycle, shot from the orbit
-  at h (its state a cycle's start is the finer orbits' start, its Jacobian their
-  Newton's first matrix: a few iterations each), their multipliers not judged again;
+- a periodic answer: the orbits with 2n and 4n steps a cycle (and 8n where the
+  three answers scatter: core.step_error.scattered), shot from the orbit at h (its
+  state a cycle's start is the finer orbits' start, its Jacobian their Newton's
+  first matrix: a few iterations each), their multipliers not judged again;
 - a stepped answer (time.method transient, or the fallback of auto/periodic):
   the stepped runs through time.T at h/2 and h/4.
 
@@ -26,7 +27,7 @@ import numpy as np
 
 from ..core.errors import NumericalError
 from ..core.series import averaging_steps
-from ..core.step_error import StepError, not_estimated, richardson
+from ..core.step_error import StepError, not_estimated, richardson, scattered
 from ..sense import RANGES
 from .periodic import TOLERANCE, find_orbit
 from .summary import cycle_average
@@ -60,20 +61,28 @@ def halved(scene, dt: float):
 def periodic_error(scene, stepper: str, orbit, answer: float, F_d0: float) -> StepError:
     """The step error of a periodic answer ``answer`` (F_dv/F_d0 of ``orbit``, shot at
     orbit.dt with orbit.steps a cycle): orbits at 2n and 4n steps a cycle, each shot
-    from the coarser one's state."""
+    from the coarser one's state, and at 8n where those three scatter
+    (step_error.scattered: a finer reference for the estimate, for a few milliseconds)."""
     answers = [(orbit.dt, answer)]
     start = orbit.z
-    for k in range(1, HALVINGS + 1):
+
+    def halve() -> bool:
+        """The orbit at half the finest step so far, appended to ``answers``."""
+        nonlocal start
         try:
-            finer_scene = halved(scene, orbit.dt / 2**k)
+            finer_scene = halved(scene, answers[-1][0] / 2)
         except ValueError:      # a step below time.dt's range
-            break
+            return False
         finer = find_orbit(finer_scene, stepper, start, plain_cycles=0, judge=False,
                            jacobian=orbit.jacobian)
         if not finer.converged:
-            break
+            return False
         answers.append((finer.dt, float(np.mean(finer.cycle[:, 1])) / F_d0))
         start = finer.z
+        return True
+
+    while len(answers) <= HALVINGS and halve():
+        pass
     if len(answers) < 2:
         return not_estimated(orbit.dt, scene.time.dt,
                              "the orbit at dt/2 did not converge from the one at dt, "
@@ -82,7 +91,10 @@ def periodic_error(scene, stepper: str, orbit, answer: float, F_d0: float) -> St
     # which the slowest multiplier m amplifies by 1/(1 - |m|) on the cycle's mean
     slowest = orbit.floquet_max_modulus if orbit.floquet.size else 0.0
     resolution = TOLERANCE * scene.F_c / F_d0 / max(1.0 - slowest, 1e-6)
-    return richardson(answers, scene.time.dt, FORMAL_ORDER, resolution)
+    error = richardson(answers, scene.time.dt, FORMAL_ORDER, resolution)
+    if scattered(error) and halve():
+        error = richardson(answers, scene.time.dt, FORMAL_ORDER, resolution)
+    return error
 
 
 def stepped_error(scene, stepper: str, answer: float, F_d0: float, settled_to: float) -> StepError:

@@ -21,7 +21,12 @@ where the steps fall in the base's cycle (the lumped model's answer at 250, 500,
 order), so the finest answer F(h/4) is the best one known and the estimate is
 F(h)'s distance from it plus F(h/4)'s own, taken as the last halving's change:
 |F(h) - F(h/4)| + |d2|. (|d1| + |d2| times 3, the first rule, was 6 times the
-true error there.) Where the answers agree to the solver's own
+true error there.) Where the answer at h/2 is the one that strays, that is
+|d2| large, the estimate is several times the true error; a solver for which a
+fourth answer is cheap (the lumped model's orbits) adds F(h/8) where the three
+scatter (``scattered``), and the same rule takes it as the finest:
+|F(h) - F(h/8)| + |F(h/4) - F(h/8)| (docs/validation.md has what each gave on the
+paper's grids). Where the answers agree to the solver's own
 resolution (its convergence tolerance: differences below it are noise), the
 estimate is that resolution.
 
@@ -36,6 +41,7 @@ from dataclasses import dataclass
 SAFETY_OBSERVED = 1.25   # Roache's factor of safety, order observed from three steps
 SAFETY_ASSUMED = 3.0     # and where it is assumed (two steps) or not in the asymptotic range
 MIN_ORDER = 0.5          # below this the answers are not yet in their asymptotic range
+SCATTER = "not converging at a steady order"   # the note of answers that scatter
 MAX_ORDER = 4.0          # above it the halvings' ratio is noise or a kink, not an order
 
 
@@ -74,6 +80,12 @@ class StepError:
                 "dt_used": self.dt_used, "dt_asked": self.dt_asked, "error_note": self.note}
 
 
+def scattered(error: StepError) -> bool:
+    """The three answers of ``error`` scatter rather than converge at a steady order:
+    a fourth, at h/8, makes a finer reference of the estimate (richardson)."""
+    return len(error.answers) == 3 and error.order is None and SCATTER in error.note
+
+
 def not_estimated(dt_used: float, dt_asked: float, why: str) -> StepError:
     """A StepError that says no estimate was made, and why."""
     return StepError(None, None, dt_used, dt_asked, (), f"not estimated: {why}")
@@ -83,16 +95,16 @@ def richardson(answers, dt_asked: float, formal_order: float = 1.0,
                resolution: float = 0.0, two_step_safety: float = SAFETY_ASSUMED) -> StepError:
     """The step error of ``answers[0]`` from answers at successively halved steps.
 
-    ``answers``: ((h, F(h)), (h/2, F(h/2))[, (h/4, F(h/4))]), the reported answer
-    first; ``formal_order``: the scheme's order, used where it cannot be observed;
+    ``answers``: ((h, F(h)), (h/2, F(h/2))[, (h/4, F(h/4))[, (h/8, F(h/8))]]), the
+    reported answer first (a fourth where the first three scatter: ``scattered``); ``formal_order``: the scheme's order, used where it cannot be observed;
     ``resolution``: the solver's own accuracy on F (differences below it are noise);
     ``two_step_safety``: the factor of safety on the estimate from two answers (a
     solver whose estimate has been measured against its true errors may take less
     than Roache's 3: fem/step_error.py).
     """
     answers = tuple((float(h), float(f)) for h, f in answers)
-    if len(answers) not in (2, 3):
-        raise ValueError(f"richardson needs 2 or 3 answers at halved steps, got {len(answers)}")
+    if len(answers) not in (2, 3, 4):
+        raise ValueError(f"richardson needs 2 to 4 answers at halved steps, got {len(answers)}")
     for (h, _), (h_next, _) in zip(answers, answers[1:]):
         if not math.isclose(h_next, h / 2.0, rel_tol=1e-9):
             raise ValueError(f"richardson needs halved steps: {h:g} then {h_next:g}")
@@ -105,7 +117,7 @@ def richardson(answers, dt_asked: float, formal_order: float = 1.0,
         return StepError(resolution, None, dt_used, dt_asked, answers,
                          f"the answers at dt and dt/2 agree within the solver's resolution "
                          f"{resolution:.1e}")
-    if len(answers) == 3:
+    if len(answers) >= 3:
         d2 = values[1] - values[2]
         ratio = d1 / d2 if d2 != 0.0 else math.inf
         if math.isfinite(ratio) and ratio > 0.0:
@@ -114,10 +126,12 @@ def richardson(answers, dt_asked: float, formal_order: float = 1.0,
                 error = abs(d1) / (1.0 - 2.0 ** -order)
                 return StepError(SAFETY_OBSERVED * error, order, dt_used, dt_asked, answers,
                                  f"Richardson from dt, dt/2, dt/4 (order {order:.2f} observed)")
-        error = abs(values[0] - values[2]) + abs(d2)
+        finest, last = len(answers) - 1, 2 ** (len(answers) - 1)
+        error = abs(values[0] - values[finest]) + abs(values[finest - 1] - values[finest])
+        steps = ", ".join(["dt"] + [f"dt/{2**k}" for k in range(1, len(answers))])
         return StepError(error, None, dt_used, dt_asked, answers,
-                         "dt, dt/2, dt/4 not converging at a steady order: "
-                         "|F(dt) - F(dt/4)| + |F(dt/2) - F(dt/4)|")
+                         f"{steps} {SCATTER}: |F(dt) - F(dt/{last})| + "
+                         f"|F(dt/{last // 2}) - F(dt/{last})|")
     error = abs(d1) / (1.0 - 2.0 ** -formal_order)
     return StepError(two_step_safety * error, None, dt_used, dt_asked, answers,
                      f"Richardson from dt and dt/2 (the scheme's order {formal_order:g} assumed, "
