@@ -24,22 +24,22 @@ def _error_digits(error: float) -> tuple:
     return f"{rounded:.{decimals}f}", decimals
 
 
-def value_with_error(summary: dict) -> str:
+def value_with_error(summary: dict, with_step: bool = True) -> str:
     """``0.13701 ± 2e-05 (dt 1e-06 s)``: F_dv/F_d0 to the decimal of its error's last
     digit (at least 4 decimals), the error rounded up (_error_digits), and the step the
-    answer was computed at; "none" where there is no ratio, and the reason where no
-    error was estimated."""
+    answer was computed at (``with_step``: else the caller says it); "none" where there
+    is no ratio, and the reason where no error was estimated."""
     ratio = summary.get("F_dv_over_F_d0")
     if ratio is None:
         return "none"
     error = summary.get("error_estimate")
-    dt = summary.get("dt_used")
+    dt = summary.get("dt_used") if with_step else None
     step = f"dt {dt:.6g} s" if dt is not None else ""
     if error is None or not math.isfinite(error) or error <= 0.0:
         why = summary.get("error_note") or "no error estimate"
         return f"{ratio:.4f} ({step}; {why})" if step else f"{ratio:.4f} ({why})"
     text, decimals = _error_digits(error)
-    return f"{ratio:.{max(4, decimals)}f} ± {text} ({step})"
+    return f"{ratio:.{max(4, decimals)}f} ± {text}" + (f" ({step})" if step else "")
 
 
 def answer_with_error(summary: dict) -> str:

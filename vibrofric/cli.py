@@ -334,7 +334,8 @@ def cmd_run(args) -> None:
     settled += f"; {periodic.strip()[1:-1]}" if periodic else ""
     _warn_inaccurate(fe, "FE")
     _emit(args, document,
-          f"F_dv/F_d0: FE {value_with_error(fe)} ({fe['integrator']}, {fe['dofs']} DOFs, "
+          f"F_dv/F_d0: FE {value_with_error(fe, with_step=False)} ({fe['integrator']}, "
+          f"dt {fe['dt_used']:.6g} s, {fe['dofs']} DOFs, "
           f"{fe['wall_time_s']:.1f} s{settled}), analytic {value_with_error(analytic)}; "
           f"relative difference {_number(document['rel_error'], '.2%')}; results in {target}"
           + (f"; {fe['normal_force_rule_note']}" if fe.get("normal_force_rule_note") else ""))
