@@ -37,15 +37,18 @@ def cache_in_user_directory(dispatcher) -> None:
 
     if config.CACHE_DIR:
         return
-    try:
-        from numba.core.caching import (CompileResultCacheImpl, FunctionCache,
-                                        _UserProvidedCacheLocator)
-    except ImportError:
+    from numba.core import caching
+
+    # numba 0.56 (Debian) names it with a leading underscore, 0.68 without
+    user_locator = (getattr(caching, "UserProvidedCacheLocator", None)
+                    or getattr(caching, "_UserProvidedCacheLocator", None))
+    if user_locator is None:
         return
+    CompileResultCacheImpl, FunctionCache = caching.CompileResultCacheImpl, caching.FunctionCache
 
     root = str(numba_cache_dir())
 
-    class Locator(_UserProvidedCacheLocator):
+    class Locator(user_locator):
         """numba's NUMBA_CACHE_DIR locator, at ``root``."""
 
         def __init__(self, py_func, py_file):
