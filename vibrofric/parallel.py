@@ -90,6 +90,9 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
+SINGULAR = {"lanes of points": "lane of points", "points": "point"}   # worker_count's ``what``
+
+
 def worker_count(requested: int | None, side_by_side: int, oversubscribe: bool | None = False,
                  worker_bytes: int = 0, available: int | None = None, what: str = "tasks") -> tuple:
     """(processes to start, a line saying why fewer than ``requested``, or None).
@@ -102,7 +105,8 @@ def worker_count(requested: int | None, side_by_side: int, oversubscribe: bool |
     asked. The default (``requested`` None): default_workers().
     """
     wanted = requested or default_workers()
-    limits = [(max(1, side_by_side), f"the sweep has {side_by_side} {what} to run side by side")]
+    things = what if side_by_side != 1 else SINGULAR.get(what, what)
+    limits = [(max(1, side_by_side), f"the sweep has {side_by_side} {things} to run side by side")]
     if not oversubscribe:
         hint = " (add --oversubscribe to run more)" if oversubscribe is False else ""
         limits.append((cores(), f"this machine has {cores()} cores{hint}"))
