@@ -32,7 +32,7 @@ from pathlib import Path
 from .core.series import COLUMNS, RecordPlan, full_resolution_steps, written_rows
 from .meshes import level_counts
 from .output import existing_ancestor
-from .scene import SceneError
+from .scene import SceneError, check_fe_scene
 
 FE_BYTES_PER_DOF = 4_000
 CSV_BYTES_PER_VALUE = 25           # a double's repr and its comma
@@ -141,7 +141,11 @@ def check(scenes, fe: bool, out: Path, full_series: bool = False, series: bool =
     machine's memory, in the free disk under ``out``, or in LONGEST_RUN_S;
     ``full_series``: the runs write every kept row of their time series;
     ``series``: they write their time series at all (see estimate). Returns the
-    slowest run's estimated seconds."""
+    slowest run's estimated seconds. With ``fe``, first a scene the FE model
+    cannot run (scene.check_fe_scene)."""
+    if fe:
+        for scene in scenes:
+            check_fe_scene(scene)
     needs = [(scene, estimate(scene, fe, full_series, series)) for scene in scenes]
     if not needs:  # a sweep none of whose points makes a scene: nothing will run
         return 0.0
