@@ -125,20 +125,11 @@ def load_coupled(scene) -> None:
     """Load the coupled loop compiled for the scene's law from numba's cache (compile it
     on a first run): a run of no steps, with the argument types of a real one, so that
     a timed run_coupled() is the stepping alone."""
-    from .normal import load_normal, moves_normally
-
-    if moves_normally(scene):
-        return load_normal(scene, planar=True)
     _run_loop(scene, NO_STEPS, np.empty((0, len(COLUMNS))))
 
 
 def run_coupled(scene) -> TimeSeries:
-    """Integrate the scene with the coupled two-phase stepper (with the body's normal
-    degree of freedom where the base moves along Z: normal.py)."""
-    from .normal import moves_normally, run_normal   # (normal imports this module)
-
-    if moves_normally(scene):
-        return run_normal(scene, planar=True)
+    """Integrate the scene with the coupled two-phase stepper."""
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     out = np.empty((plan.rows, len(COLUMNS)))
     check_finished(_run_loop(scene, plan, out), scene)

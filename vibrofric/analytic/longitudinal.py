@@ -70,20 +70,11 @@ def _run_loop(scene, plan: RecordPlan, out: np.ndarray) -> int:
 
 def load_longitudinal(scene) -> None:
     """Load the 1D loop compiled for the scene's law (see coupled.load_coupled)."""
-    from .normal import load_normal, moves_normally   # (normal imports coupled)
-
-    if moves_normally(scene):
-        return load_normal(scene, planar=False)
     _run_loop(scene, NO_STEPS, np.empty((0, len(COLUMNS))))
 
 
 def run_longitudinal(scene) -> TimeSeries:
-    """Integrate the scene's X motion in 1D (its theta and eta_y are ignored; the body's
-    Z motion too where the base moves along Z: normal.py)."""
-    from .normal import moves_normally, run_normal
-
-    if moves_normally(scene):
-        return run_normal(scene, planar=False)
+    """Integrate the scene's X motion in 1D (its theta and eta_y are ignored)."""
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     out = np.empty((plan.rows, len(COLUMNS)))
     check_finished(_run_loop(scene, plan, out), scene)

@@ -8,12 +8,30 @@ from ..core.step_error import not_estimated
 from .accuracy import error_keys, no_ratio, periodic_error, stepped_error
 from .coupled import load_coupled, run_coupled
 from .longitudinal import load_longitudinal, run_longitudinal
-from .normal import moves_normally, normal_force_keys
+from .normal import load_normal, moves_normally, normal_force_keys, run_normal
 from .periodic import find_orbit, load_cycle, steady_series
 from .summary import periodic_block, summarize, summarize_orbit
 
-STEPPERS = {"coupled": run_coupled, "longitudinal": run_longitudinal}
-LOADERS = {"coupled": load_coupled, "longitudinal": load_longitudinal}
+def _stepper(run, planar: bool):
+    """``run``, or normal.run_normal where the base moves along Z (``planar``: coupled)."""
+    def stepped(scene):
+        return run_normal(scene, planar) if moves_normally(scene) else run(scene)
+    return stepped
+
+
+def _loader(load, planar: bool):
+    """``load``, or normal.load_normal where the base moves along Z."""
+    def loaded(scene):
+        return load_normal(scene, planar) if moves_normally(scene) else load(scene)
+    return loaded
+
+
+# The lumped steppers by name; a scene whose base moves along Z runs the loop with the
+# body's normal degree of freedom (normal.py), every other the existing loops unchanged.
+STEPPERS = {"coupled": _stepper(run_coupled, True),
+            "longitudinal": _stepper(run_longitudinal, False)}
+LOADERS = {"coupled": _loader(load_coupled, True),
+           "longitudinal": _loader(load_longitudinal, False)}
 
 
 def solve(scene, stepper: str = "coupled", start=None, estimate: bool = True):
