@@ -51,9 +51,9 @@ class Contact:
                                            # scene file) | an importable module
     F_N: float = 55.0                      # N, total normal reaction
     eta_y: float = 0.71                    # transverse vibration transfer coefficient (eq 30)
-    k_n: typing.Optional[float] = None     # N/m, the lumped body's normal contact stiffness;
-                                           # default the FE block's penalty stiffness (fem.penalty,
-                                           # 10 E A / L_z): the same bounce frequency (normal.py)
+    k_n: typing.Optional[float] = None     # the lumped body's normal contact stiffness; default:
+                                           # it bounces at the FE block's first bounce frequency on
+                                           # its penalty contact fem.penalty (core/bounce.py)
     parameters: dict = field(default_factory=dict)  # [contact]'s law parameters
     tables: dict = field(default_factory=dict)      # {law_key: {parameter: value}}
 
@@ -114,10 +114,11 @@ class Vibration:
     k_v: float = 6.0                       # v_a / v_d; 0 means no vibration
     theta_deg: float = 0.0                 # angle of the vibration axis to X
     t_on: float = 0.14                     # s, when the vibration starts
-    normal_amplitude: float = 0.0          # m, the base's motion along Z, A_n sin(w (t - t_on)
-                                           # + phase); 0: none (lumped model only: normal.py)
-    normal_phase_deg: typing.Optional[float] = None  # deg, the normal motion's phase against the
-                                           # in-plane motion (90: elliptical); needs an amplitude
+    normal_amplitude: float = 0.0          # the base's motion along Z, A_n sin(w (t - t_on) + phase);
+                                           # 0: none. Lumped model only (analytic/normal.py)
+    normal_phase_deg: typing.Optional[float] = None  # the normal motion's phase against the
+                                           # in-plane motion (90: elliptical); none: 0, and only
+                                           # with a normal_amplitude
 
 
 @dataclass(frozen=True)
