@@ -138,3 +138,21 @@ def test_the_default_normal_stiffness_bounces_at_the_bar_on_its_penalty_spring()
     rigid = default_penalty(body.E, body.size) * body.mass / (7850.0 * 1e6 * 0.03 * 0.04 * 0.053)
     assert stiff == pytest.approx(rigid, rel=1e-5)
     assert scene.normal_stiffness == pytest.approx(0.204 * fe_penalty(body.E, body.size), rel=0.01)
+
+
+@pytest.mark.parametrize("phase", [0.0, 90.0])
+def test_a_normal_run_carries_its_step_error_and_is_judged_settled(phase):
+    """The stepped answer's error from the runs at dt/2 and dt/4 (analytic/accuracy.py),
+    whatever step the base's start falls on; the summary's settled judgement."""
+    scene = load_scene("longitudinal", vibration__normal_amplitude=1e-7, time__T=0.3,
+                       vibration__normal_phase_deg=phase)
+    series, summary = solve(scene)
+    assert summary["periodic"]["method"] == "transient"          # stepped, saying why
+    assert "normal motion" in summary["periodic"]["reason"]
+    assert summary["error_estimate"] is not None and summary["dt_used"] == scene.time.dt
+    assert summary["settled"] is True
+    # started on its forced response, the body keeps its contact at 0.6 of the threshold
+    assert summary["contact_loss_fraction"] == 0.0
+    assert summary["normal_force_max"] - scene.contact.F_N == pytest.approx(
+        _forced_amplitude(scene), rel=1e-2)   # 1e-2: 250 steps a cycle here, 1000 above
+    assert series.names[-3:] == normal.NORMAL_COLUMNS

@@ -82,7 +82,7 @@ def normal_at_rest(F_N: float) -> np.ndarray:
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_theta, eta_y,
-                F_N, k_n, c_n, amplitude_n, phase_n, gain_re, gain_im, state, params, dt, first, last, stride,
+                F_N, k_n, c_n, amplitude_n, phase_n, gain_re, gain_im, on_step, state, params, dt, first, last, stride,
                 full_from, f_max, carried, out):
     """coupled.coupled_loop with the body's Z motion on the unilateral contact (the
     module docstring's equations); ``out``'s rows add z, z_b, N (NORMAL_COLUMNS).
@@ -112,7 +112,7 @@ def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_thet
         if t >= t_on:   # A_n sin(w (t - t_on) + phi) by the in-plane motion's rotated phase
             zb = amplitude_n * (sin_phase * cos_n + cos_phase * sin_n)
             vzb = amplitude_n * omega * (cos_phase * cos_n - sin_phase * sin_n)
-            if t - dt < t_on:   # the first step on: the body on its forced response
+            if i == on_step:    # the first step on: the body on its forced response
                 z = gain_re * zb + gain_im * vzb / omega
                 vz = gain_re * vzb - gain_im * omega * zb
         spring = F_N + k_n * (zb - z)               # k_n p, exactly F_N at rest
@@ -155,6 +155,18 @@ def start_gain(scene) -> tuple:
     return H.real, H.imag
 
 
+def first_step_on(scene) -> int:
+    """The first step i whose time i dt is at or past t_on (the test of
+    core.base_motion.base_displacement, to the bit)."""
+    dt, t_on = scene.time.dt, scene.vibration.t_on
+    i = max(0, math.ceil(t_on / dt))
+    while i * dt < t_on:
+        i += 1
+    while i > 0 and (i - 1) * dt >= t_on:
+        i -= 1
+    return i
+
+
 def contact_damping(scene) -> float:
     """c_n = 2 ZETA_N sqrt(k_n m), N s/m."""
     return 2.0 * ZETA_N * math.sqrt(scene.normal_stiffness * scene.body.mass)
@@ -175,7 +187,7 @@ def _run_loop(scene, planar: bool, plan: RecordPlan, out: np.ndarray) -> int:
                 scene.u0, scene.omega, vib.t_on, cos_theta, sin_theta, eta_y,
                 scene.contact.F_N, scene.normal_stiffness, contact_damping(scene),
                 vib.normal_amplitude, math.radians(vib.normal_phase_deg or 0.0),
-                *start_gain(scene), state,
+                *start_gain(scene), first_step_on(scene), state,
                 law.params, scene.time.dt, first, last, plan.stride, plan.full_from,
                 divergence_force(scene), carried, out)
 
