@@ -1,9 +1,10 @@
 """The lumped body's normal degree of freedom: a base that also moves along Z (docs/model.md
-section "Normal vibration of the base").
+section 6).
 
-Used only where vibration.normal_amplitude > 0; every other run steps through
-coupled.coupled_loop / longitudinal.longitudinal_loop, which this module leaves as
-they are (their answers and compiled code unchanged).
+Used only where vibration.normal_amplitude > 0 (solve.STEPPERS); every other run
+steps through coupled.coupled_loop / longitudinal.longitudinal_loop, which this
+module leaves as they are. Such a run is stepped through time.T whatever
+time.method: the body's z and dz/dt are not in the periodic solver's state yet.
 
 Signs: z is the body's upward displacement and z_b the base's, both from the static
 equilibrium under the load (z = z_b = 0 at rest). The contact is a unilateral spring
@@ -45,7 +46,7 @@ factor sqrt(1 + (2 ZETA_N r)^2) / sqrt(1 + (2 ZETA_N r / (1 - r^2))^2), r = w / 
 within 1e-5 of 1 for r < 0.25.
 
 The default k_n: the FE block's first bounce mode on its penalty contact
-(default_normal_stiffness). What the lumped body still lacks: rocking (the FE
+(core/bounce.py, Scene.normal_stiffness). What the lumped body still lacks: rocking (the FE
 block tips on its face under the friction's moment, its nodes' normal forces
 differ), the block's own elastic modes beyond the first, and an FE model whose
 base moves in Z (it refuses such a scene: scene/validation.py check_fe_scene).
