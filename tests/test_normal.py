@@ -156,3 +156,20 @@ def test_a_normal_run_carries_its_step_error_and_is_judged_settled(phase):
     assert summary["normal_force_max"] - scene.contact.F_N == pytest.approx(
         _forced_amplitude(scene), rel=1e-2)   # 1e-2: 250 steps a cycle here, 1000 above
     assert series.names[-3:] == normal.NORMAL_COLUMNS
+
+
+@pytest.mark.parametrize("args", [
+    ["analytic", "longitudinal", "--set", "vibration.normal_phase_deg=90"],
+    ["run", "longitudinal", "--set", "vibration.normal_amplitude=1e-8"],
+    ["sweep", "longitudinal", "--fe", "--grid", "vibration.normal_amplitude=0,1e-8"],
+])
+def test_the_command_line_refuses_in_one_line_naming_the_key_and_writes_nothing(
+        tmp_path, monkeypatch, capsys, args):
+    from vibrofric.cli import EXIT_BAD_INPUT, main
+
+    monkeypatch.chdir(tmp_path)
+    assert main(args) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err.strip().splitlines()
+    key = "vibration.normal_phase_deg" if "analytic" in args else "vibration.normal_amplitude"
+    assert len(err) == 1 and err[0].startswith(f"vibrofric: invalid scene: {key}: "), err
+    assert list(tmp_path.iterdir()) == []
