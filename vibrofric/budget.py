@@ -32,7 +32,7 @@ from pathlib import Path
 from .core.series import COLUMNS, RecordPlan, full_resolution_steps, written_rows
 from .meshes import level_counts
 from .output import existing_ancestor
-from .scene import SceneError
+from .scene import SceneError, check_fe_scene
 
 FE_BYTES_PER_DOF = 4_000
 CSV_BYTES_PER_VALUE = 25           # a double's repr and its comma
@@ -111,7 +111,8 @@ def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) ->
     ``series``: the run writes its time series (an analytic sweep point writes
     only its scene and summary, POINT_BYTES)."""
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
-    columns = len(COLUMNS) + (1 if fe else 0)
+    # the FE model's F_n; a base moving along Z adds z, z_b, N (analytic/normal.py)
+    columns = len(COLUMNS) + (1 if fe else 0) + (3 if scene.vibration.normal_amplitude > 0 else 0)
     series_files = 2 if fe else 1  # an FE run writes the analytic series beside its own
     memory = 3 * plan.rows * columns * 8
     rows_written = plan.rows if full_series else written_rows(scene)
@@ -141,7 +142,11 @@ def check(scenes, fe: bool, out: Path, full_series: bool = False, series: bool =
     machine's memory, in the free disk under ``out``, or in LONGEST_RUN_S;
     ``full_series``: the runs write every kept row of their time series;
     ``series``: they write their time series at all (see estimate). Returns the
-    slowest run's estimated seconds."""
+    slowest run's estimated seconds. With ``fe``, first a scene the FE model
+    cannot run (scene.check_fe_scene)."""
+    if fe:
+        for scene in scenes:
+            check_fe_scene(scene)
     needs = [(scene, estimate(scene, fe, full_series, series)) for scene in scenes]
     if not needs:  # a sweep none of whose points makes a scene: nothing will run
         return 0.0

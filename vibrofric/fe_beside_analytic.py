@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from . import output
 from .core.errors import Refusal
 from .core.series import TimeSeries, written
-from .scene import refused
+from .scene import check_fe_scene, refused
 
 # The analytic stepper beside an FE run runs the scene as it is, at its own time.dt:
 # one scene has one analytic answer, whichever command (analytic, run, sweep) runs it.
@@ -99,6 +99,7 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     from .fem import run_fe
     from .fem.outputs.normal_swing import rule_note
 
+    check_fe_scene(scene)
     analytic_series, analytic = solve(scene)
     try:     # a shooting without a neighbour's orbit starts from the lumped model's F_dv
         fe = run_fe(scene, comm=comm, vtk_dir=directory / "paraview", progress=progress,

@@ -3,16 +3,35 @@
 
 from time import perf_counter
 
-from ..core.series import check_stepped_window
+from ..core.series import averaging_steps, check_stepped_window
 from ..core.step_error import not_estimated
 from .accuracy import error_keys, no_ratio, periodic_error, stepped_error
 from .coupled import load_coupled, run_coupled
 from .longitudinal import load_longitudinal, run_longitudinal
+from .normal import load_normal, moves_normally, normal_force_keys, run_normal
 from .periodic import find_orbit, load_cycle, steady_series
 from .summary import periodic_block, summarize, summarize_orbit
 
-STEPPERS = {"coupled": run_coupled, "longitudinal": run_longitudinal}
-LOADERS = {"coupled": load_coupled, "longitudinal": load_longitudinal}
+def _stepper(run, planar: bool):
+    """``run``, or normal.run_normal where the base moves along Z (``planar``: coupled)."""
+    def stepped(scene):
+        return run_normal(scene, planar) if moves_normally(scene) else run(scene)
+    return stepped
+
+
+def _loader(load, planar: bool):
+    """``load``, or normal.load_normal where the base moves along Z."""
+    def loaded(scene):
+        return load_normal(scene, planar) if moves_normally(scene) else load(scene)
+    return loaded
+
+
+# The lumped steppers by name; a scene whose base moves along Z runs the loop with the
+# body's normal degree of freedom (normal.py), every other the existing loops unchanged.
+STEPPERS = {"coupled": _stepper(run_coupled, True),
+            "longitudinal": _stepper(run_longitudinal, False)}
+LOADERS = {"coupled": _loader(load_coupled, True),
+           "longitudinal": _loader(load_longitudinal, False)}
 
 
 def solve(scene, stepper: str = "coupled", start=None, estimate: bool = True):
@@ -39,9 +58,13 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None, estimate: bool
     that took, error_wall_time_s (wall_time_s stays the answer's own). Without
     ``estimate`` (a measurement of the answer alone: the bench, a reference run)
     the keys are there and say that none was made.
+
+    The summary's normal-force keys (normal.normal_force_keys) are over the steady
+    cycles. A base moving along Z (normal.py) is stepped through time.T whatever
+    time.method: the body's normal motion is not in the shooting state yet.
     """
     orbit = None
-    if scene.time.method != "transient" and scene.vibrated:
+    if scene.time.method != "transient" and scene.vibrated and not moves_normally(scene):
         load_cycle(scene, stepper)
         orbit = find_orbit(scene, stepper, start)
         if orbit.converged and orbit.stable:
@@ -52,12 +75,16 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None, estimate: bool
                                       summary["F_d0"])
 
             summary.update(_error(summary, scene, orbit.dt, periodic, estimate))
-            return steady_series(orbit, scene), summary, orbit.z
+            series = steady_series(orbit, scene)
+            summary.update(normal_force_keys(series, scene, orbit.steps))
+            return series, summary, orbit.z
         check_stepped_window(scene, "no stable periodic orbit, so the scene is stepped through time.T: its ")
+
     LOADERS[stepper](scene)
     start_time = perf_counter()
     series = STEPPERS[stepper](scene)
     summary = summarize(series, scene, perf_counter() - start_time)
+    summary.update(normal_force_keys(series, scene, averaging_steps(scene)))
 
     def stepped():
         return stepped_error(scene, stepper, summary["F_dv_over_F_d0"], summary["F_d0"],
@@ -66,6 +93,9 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None, estimate: bool
     summary.update(_error(summary, scene, scene.time.dt, stepped, estimate))
     if scene.time.method != "transient":
         summary["periodic"] = periodic_block(orbit, scene)
+        if moves_normally(scene):
+            summary["periodic"]["reason"] = ("the base moves along Z, and the body's normal "
+                                             "motion is not in the shooting state yet")
     return series, summary, None
 
 

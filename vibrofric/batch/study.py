@@ -320,6 +320,9 @@ def run_sweep(scene, grid, mode: str, out=None, workers=None, fresh: bool = Fals
     start = time.perf_counter()
     announce = announce or (lambda line: None)
     keys = [key for key, _ in grid]
+    if mode == "fe":   # before the output directory is made: a scene the FE model refuses
+        for sample in [scene, *_sample_scenes(scene, canonical_grid(grid))]:
+            scene_module.check_fe_scene(sample)
     comm = mpi.world()
     leader = comm is None or comm.rank == 0
     if out is None and leader:

@@ -30,9 +30,9 @@ from .keys import check_key, coerce, parse_assignment, parse_value
 from .schema import (CHOICES, CONTACT_KEYS, SECTIONS, Body, Contact, Drive, Fem, Scene, Time,
                      Vibration, law_key, to_dict)
 from .toml_io import load, to_toml
-from .validation import validate
+from .validation import check_fe_scene, validate
 
 __all__ = ["CHOICES", "CONTACT_KEYS", "REFUSAL_KEYS", "SECTIONS", "Body", "Contact", "Drive",
-           "Fem", "Scene", "SceneError", "Time", "Vibration", "check_key", "coerce", "from_dict",
+           "Fem", "Scene", "SceneError", "Time", "Vibration", "check_fe_scene", "check_key", "coerce", "from_dict",
            "law_key", "law_refused", "load", "parse_assignment", "parse_value", "refused",
            "to_dict", "to_toml", "validate"]

@@ -82,7 +82,7 @@ def parse_assignment(text: str):
     >>> parse_assignment("vibration.kv=20")
     Traceback (most recent call last):
     ...
-    vibrofric.scene.SceneError: vibration.kv: unknown key in [vibration]; known: f, k_v, theta_deg, t_on
+    vibrofric.scene.SceneError: vibration.kv: unknown key in [vibration]; known: f, k_v, theta_deg, t_on, normal_amplitude, normal_phase_deg
     """
     key, sep, value = text.partition("=")
     if not sep:

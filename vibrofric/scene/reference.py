@@ -21,9 +21,10 @@ from .schema import CHOICES, SECTIONS, Scene, law_key
 UNITS = {
     "body.mass": "kg", "body.size": "m", "body.E": "Pa", "body.nu": "", "body.density": "kg/m^3",
     "body.gravity": "m/s^2",
-    "contact.F_N": "N", "contact.eta_y": "",
+    "contact.F_N": "N", "contact.eta_y": "", "contact.k_n": "N/m",
     "drive.k_d": "N/m", "drive.v_d": "m/s",
     "vibration.f": "Hz", "vibration.k_v": "", "vibration.theta_deg": "deg", "vibration.t_on": "s",
+    "vibration.normal_amplitude": "m", "vibration.normal_phase_deg": "deg",
     "time.T": "s", "time.dt": "s", "time.average_cycles": "cycles", "time.series_dt": "s",
     "time.steady_tolerance": "", "time.steady_cycles": "cycles", "time.settle_tolerance": "",
     "fem.penalty": "N/m", "fem.output_every": "steps", "fem.damping": "s",

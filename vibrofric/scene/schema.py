@@ -14,6 +14,7 @@ import typing
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
+from ..core.bounce import bounce_stiffness, default_penalty
 from ..friction_law import ContactLaw, load_law
 from ..friction_law.contract import is_law_file
 from .errors import SceneError
@@ -50,6 +51,9 @@ class Contact:
                                            # scene file) | an importable module
     F_N: float = 55.0                      # N, total normal reaction
     eta_y: float = 0.71                    # transverse vibration transfer coefficient (eq 30)
+    k_n: typing.Optional[float] = None     # the lumped body's normal contact stiffness; default:
+                                           # it bounces at the FE block's first bounce frequency on
+                                           # its penalty contact fem.penalty (core/bounce.py)
     parameters: dict = field(default_factory=dict)  # [contact]'s law parameters
     tables: dict = field(default_factory=dict)      # {law_key: {parameter: value}}
 
@@ -58,7 +62,7 @@ class Contact:
         which the generated hash of a frozen dataclass cannot take), as == compares them."""
         tables = tuple(sorted((name, tuple(sorted(table.items())))
                               for name, table in self.tables.items()))
-        return hash((self.law, self.F_N, self.eta_y, tuple(sorted(self.parameters.items())),
+        return hash((self.law, self.F_N, self.eta_y, self.k_n, tuple(sorted(self.parameters.items())),
                      tables))
 
     @property
@@ -88,7 +92,7 @@ def law_key(name: str) -> str:
     return name.rpartition(".")[2]
 
 
-CONTACT_KEYS = ("law", "F_N", "eta_y")     # the model's keys in [contact]; the rest are the law's
+CONTACT_KEYS = ("law", "F_N", "eta_y", "k_n")     # the model's keys in [contact]; the rest are the law's
 
 
 @dataclass(frozen=True)
@@ -110,6 +114,11 @@ class Vibration:
     k_v: float = 6.0                       # v_a / v_d; 0 means no vibration
     theta_deg: float = 0.0                 # angle of the vibration axis to X
     t_on: float = 0.14                     # s, when the vibration starts
+    normal_amplitude: float = 0.0          # the base's motion along Z, A_n sin(w (t - t_on) + phase);
+                                           # 0: none. Lumped model only (analytic/normal.py)
+    normal_phase_deg: typing.Optional[float] = None  # the normal motion's phase against the
+                                           # in-plane motion (90: elliptical); none: 0, and only
+                                           # with a normal_amplitude
 
 
 @dataclass(frozen=True)
@@ -208,7 +217,22 @@ class Scene:
 
     @property
     def vibrated(self) -> bool:
-        return self.vibration.k_v > 0.0
+        """Whether the base moves: in the plane (k_v > 0) or along Z (normal_amplitude > 0)."""
+        return self.vibration.k_v > 0.0 or self.vibration.normal_amplitude > 0.0
+
+    @property
+    def normal_stiffness(self) -> float:
+        """The lumped body's normal contact stiffness k_n, N/m: contact.k_n, or the one
+        on which it bounces at the FE block's first bounce frequency on its penalty
+        contact (fem.penalty or its default; core/bounce.py)."""
+        if self.contact.k_n is not None:
+            return self.contact.k_n
+        body = self.body
+        a, b, c = body.size
+        density = body.density if body.density is not None else body.mass / (a * b * c)
+        penalty = self.fem.penalty if self.fem.penalty is not None else default_penalty(
+            body.E, body.size)
+        return bounce_stiffness(body.mass, body.E, density, body.size, penalty)
 
     @property
     def omega(self) -> float:

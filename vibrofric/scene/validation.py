@@ -43,7 +43,7 @@ def validate(scene: Scene) -> None:
     for key in ("body.mass", "body.E", "contact.F_N", "drive.k_d", "drive.v_d",
                 "vibration.f", "time.T", "time.dt", "time.series_dt"):
         _positive(scene, key)
-    for key in ("body.gravity",
+    for key in ("body.gravity", "vibration.normal_amplitude",
                 "vibration.k_v", "vibration.t_on", "fem.damping", "fem.output_every"):
         _positive(scene, key, allow_zero=True)
     if any(v <= 0 for v in scene.body.size):
@@ -54,6 +54,12 @@ def validate(scene: Scene) -> None:
         raise SceneError("body.nu", f"must lie in (-1, 0.5), got {scene.body.nu}")
     if not 0.0 <= scene.contact.eta_y <= 1.0:
         raise SceneError("contact.eta_y", f"must lie in [0, 1], got {scene.contact.eta_y}")
+    if scene.contact.k_n is not None and scene.contact.k_n <= 0:
+        raise SceneError("contact.k_n", f"must be > 0, got {scene.contact.k_n}")
+    if scene.vibration.normal_phase_deg is not None and scene.vibration.normal_amplitude == 0.0:
+        raise SceneError("vibration.normal_phase_deg",
+                         f"{scene.vibration.normal_phase_deg:g} deg is the phase of a normal motion "
+                         "the scene does not have: set vibration.normal_amplitude > 0")
     if scene.fem.penalty is not None and scene.fem.penalty <= 0:
         raise SceneError("fem.penalty", f"must be > 0, got {scene.fem.penalty}")
     if not 0.0 <= scene.fem.rho_infinity <= 1.0:
@@ -115,8 +121,19 @@ def validate(scene: Scene) -> None:
             raise SceneError("time.dt", f"{time.dt} s resolves a vibration cycle of 1/f = "
                                         f"{1 / vib.f:.3g} s in {steps_per_cycle:.3g} steps; "
                                         "at least 10 are needed")
-        if time.method == "transient":   # periodic and auto answer by the orbit, if they can
+        # periodic and auto answer by the orbit, if they can; a base moving along Z is
+        # stepped whatever the method (analytic/solve.py)
+        if time.method == "transient" or vib.normal_amplitude > 0.0:
             _check_averaging_window(scene)
+
+
+def check_fe_scene(scene) -> None:
+    """Refuse, before any work, a scene the FE model cannot run yet: a base moving
+    along Z (the lumped model's alone: analytic/normal.py)."""
+    if scene.vibration.normal_amplitude > 0.0:
+        raise SceneError("vibration.normal_amplitude",
+                         f"{scene.vibration.normal_amplitude:g} m: the FE model does not move the "
+                         "base in Z yet (vibrofric analytic and analytic sweeps run it)")
 
 
 def _check_averaging_window(scene) -> None:

@@ -1,0 +1,223 @@
+"""The lumped body's normal degree of freedom: a base that also moves along Z (docs/model.md
+section 6).
+
+Used only where vibration.normal_amplitude > 0 (solve.STEPPERS); every other run
+steps through coupled.coupled_loop / longitudinal.longitudinal_loop, which this
+module leaves as they are. Such a run is stepped through time.T whatever
+time.method: the body's z and dz/dt are not in the periodic solver's state yet.
+
+Signs: z is the body's upward displacement and z_b the base's, both from the static
+equilibrium under the load (z = z_b = 0 at rest). The contact is a unilateral spring
+of stiffness k_n (contact.k_n) with a dashpot c_n beside it; its penetration is
+
+    p = F_N / k_n + z_b - z              (F_N / k_n: the static penetration)
+
+and it pushes the body up by
+
+    N = min(max(0, k_n p + c_n dp/dt), 2 k_n p)   for p > 0,   else 0
+
+(the FE model's penalty contact, fem/model/contact.py normal_force, on the whole
+face: it never pulls, and the dashpot's push is at most the spring's, so N goes to
+0 with p). F_N is the constant downward load (the body's weight included), so
+
+    m d2z/dt2 = N - F_N
+
+integrated by the same semi-implicit Euler as X and Y (coupled.py), k_n p computed as
+F_N + k_n (z_b - z) so that the body at rest holds N = F_N exactly: with A_n = 0 the
+friction law sees what coupled_loop passes it and the loop answers its answer bit for
+bit (tests/test_normal.py). The base moves as
+
+    z_b(t) = A_n sin(w (t - t_on) + phi)   for t >= t_on, else 0
+
+(A_n vibration.normal_amplitude, phi vibration.normal_phase_deg). At t_on the body
+starts on its steady forced response in contact (start_gain), as a base brought up
+to its amplitude slowly would leave it. Started at rest, the body would bounce
+freely by about k_n A_n r / |1 - r^2| (in N, r = w / w_n), 1/r times its forced
+swing: on the paper's block (r = 0.18) that lost contact from 0.5 of the threshold
+below, and at 0.9 of it the body stayed on a bouncing orbit (a second attractor of
+the unilateral oscillator) out of contact 91% of the time.
+The friction law sees N(t) as its normal force every step (friction_law/contract.py:
+the force is held within mu_max N of that step, and N = 0 releases it).
+
+The dashpot: c_n = 2 ZETA_N sqrt(k_n m). It damps the free bounce the start of the
+motion excites, so that a steady cycle exists (an undamped unilateral oscillator
+never forgets its start). Below contact loss it changes the forced amplitude by the
+factor sqrt(1 + (2 ZETA_N r)^2) / sqrt(1 + (2 ZETA_N r / (1 - r^2))^2), r = w / w_n:
+within 1e-5 of 1 for r < 0.25.
+
+The default k_n: the FE block's first bounce mode on its penalty contact
+(core/bounce.py, Scene.normal_stiffness). What the lumped body still lacks: rocking (the FE
+block tips on its face under the friction's moment, its nodes' normal forces
+differ), the block's own elastic modes beyond the first, and an FE model whose
+base moves in Z (it refuses such a scene: scene/validation.py check_fe_scene).
+"""
+
+import math
+
+import numpy as np
+
+from ..core.base_motion import base_displacement, vibration_axis
+from ..core.chunks import run_in_chunks
+from ..core.law_limits import divergence_force
+from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolution_steps
+from ..friction_law import law_kernel
+from ..friction_law.contract import FASTMATH
+from .coupled import (COS_PHASE, FX, FY, ROW, SIN_PHASE, VX, VY, XB, YB, X, Y, at_rest,
+                      check_finished, record_row)
+
+ZETA_N = 0.02   # the normal contact's damping ratio (module docstring: why, and its effect)
+NORMAL_COLUMNS = ("z", "z_b", "N")   # the time series' columns after core.series.COLUMNS
+
+# The carried state's slots after coupled's: the body's Z displacement and velocity,
+# and the contact's normal force of the last step.
+Z, VZ, N = ROW + 1, ROW + 2, ROW + 3
+
+
+def normal_at_rest(F_N: float) -> np.ndarray:
+    """coupled.at_rest() and the body at rest on its contact: z = 0, N = F_N."""
+    carried = np.zeros(N + 1)
+    carried[:ROW + 1] = at_rest()
+    carried[N] = F_N
+    return carried
+
+
+@law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
+def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_theta, eta_y,
+                F_N, k_n, c_n, amplitude_n, phase_n, gain_re, gain_im, on_step, state, params, dt, first, last, stride,
+                full_from, f_max, carried, out):
+    """coupled.coupled_loop with the body's Z motion on the unilateral contact (the
+    module docstring's equations); ``out``'s rows add z, z_b, N (NORMAL_COLUMNS).
+    The 1D stepper is this loop with sin_theta = eta_y = 0."""
+    x, y, vx, vy = carried[X], carried[Y], carried[VX], carried[VY]
+    f_x, f_y, xb, yb = carried[FX], carried[FY], carried[XB], carried[YB]
+    z, vz, n = carried[Z], carried[VZ], carried[N]
+    sin_phase, cos_phase = carried[SIN_PHASE], carried[COS_PHASE]
+    cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
+    sin_n, cos_n = math.sin(phase_n), math.cos(phase_n)
+    j = int(carried[ROW])
+    for i in range(first, last + 1):
+        t = i * dt
+        if prescribed:
+            x_new, y_new = v_d * t, 0.0
+        else:
+            f_d = k_d * (v_d * (t - dt) - x)
+            vx += dt * (f_d - f_x) / mass
+            vy += dt * (-f_y) / mass
+            x_new, y_new = x + dt * vx, y + dt * vy
+        vz += dt * (n - F_N) / mass                 # m z'' = N - F_N
+        z += dt * vz
+        u, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, u0, sin_phase, cos_phase,
+                                                    cos_step, sin_step)
+        xb_new, yb_new = u * cos_theta, u * sin_theta
+        zb, vzb = 0.0, 0.0
+        if t >= t_on:   # A_n sin(w (t - t_on) + phi) by the in-plane motion's rotated phase
+            zb = amplitude_n * (sin_phase * cos_n + cos_phase * sin_n)
+            vzb = amplitude_n * omega * (cos_phase * cos_n - sin_phase * sin_n)
+            if i == on_step:    # the first step on: the body on its forced response
+                z = gain_re * zb + gain_im * vzb / omega
+                vz = gain_re * vzb - gain_im * omega * zb
+        spring = F_N + k_n * (zb - z)               # k_n p, exactly F_N at rest
+        n = 0.0
+        if spring > 0.0:
+            n = min(max(0.0, spring + c_n * (vzb - vz)), 2.0 * spring)
+        f_x, f_y = law_update(  # noqa: F821 (the scene's law, friction_law/specialize.py)
+            (x_new - x) - (xb_new - xb), y_new - y,
+            0.0, eta_y * (yb_new - yb),
+            n, 1.0, state, params, dt)
+        x, y, xb, yb = x_new, y_new, xb_new, yb_new
+        f_d = f_x if prescribed else k_d * (v_d * t - x)
+        if not (math.sqrt(f_x * f_x + f_y * f_y) <= f_max and math.isfinite(f_d)
+                and math.isfinite(z)):
+            return i
+        if i >= full_from or i % stride == 0:
+            record_row(out, j, t, f_d, f_x, f_y, x, y, xb, yb)
+            out[j, 8] = z
+            out[j, 9] = zb
+            out[j, 10] = n
+            j += 1
+    carried[X], carried[Y], carried[VX], carried[VY] = x, y, vx, vy
+    carried[FX], carried[FY], carried[XB], carried[YB] = f_x, f_y, xb, yb
+    carried[Z], carried[VZ], carried[N] = z, vz, n
+    carried[SIN_PHASE], carried[COS_PHASE], carried[ROW] = sin_phase, cos_phase, j
+    return 0
+
+
+def moves_normally(scene) -> bool:
+    """Whether the scene's base moves along Z (vibration.normal_amplitude > 0)."""
+    return scene.vibration.normal_amplitude > 0.0
+
+
+def start_gain(scene) -> tuple:
+    """(Re H, Im H): the body's forced response in contact over the base's motion,
+    H = (k_n + i c_n w) / (k_n - m w^2 + i c_n w), on which it starts (module docstring):
+    z = Re H z_b + Im H dz_b/dt / w."""
+    k_n, c_n, m, w = scene.normal_stiffness, contact_damping(scene), scene.body.mass, scene.omega
+    H = complex(k_n, c_n * w) / complex(k_n - m * w * w, c_n * w)
+    return H.real, H.imag
+
+
+def first_step_on(scene) -> int:
+    """The first step i whose time i dt is at or past t_on (the test of
+    core.base_motion.base_displacement, to the bit)."""
+    dt, t_on = scene.time.dt, scene.vibration.t_on
+    i = max(0, math.ceil(t_on / dt))
+    while i * dt < t_on:
+        i += 1
+    while i > 0 and (i - 1) * dt >= t_on:
+        i -= 1
+    return i
+
+
+def contact_damping(scene) -> float:
+    """c_n = 2 ZETA_N sqrt(k_n m), N s/m."""
+    return 2.0 * ZETA_N * math.sqrt(scene.normal_stiffness * scene.body.mass)
+
+
+def _run_loop(scene, planar: bool, plan: RecordPlan, out: np.ndarray) -> int:
+    """The loop, compiled for the scene's law, over ``plan``'s steps; ``planar``: the
+    coupled stepper's X and Y, else the 1D stepper's X alone. Returns the failing step, or 0."""
+    cos_theta, sin_theta = vibration_axis(scene.vibration.theta_deg)
+    eta_y = scene.contact.eta_y
+    if not planar:
+        sin_theta, eta_y = 0.0, 0.0
+    law, vib = scene.friction, scene.vibration
+    state, carried = law.law.initial_state(1)[0], normal_at_rest(scene.contact.F_N)
+
+    def args(first, last):
+        return (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
+                scene.u0, scene.omega, vib.t_on, cos_theta, sin_theta, eta_y,
+                scene.contact.F_N, scene.normal_stiffness, contact_damping(scene),
+                vib.normal_amplitude, math.radians(vib.normal_phase_deg or 0.0),
+                *start_gain(scene), first_step_on(scene), state,
+                law.params, scene.time.dt, first, last, plan.stride, plan.full_from,
+                divergence_force(scene), carried, out)
+
+    loop = normal_loop.prepared(law.law, args(1, 0), "the analytic stepper with normal motion")
+    return run_in_chunks(plan.steps, lambda first, last: loop(*args(first, last)))
+
+
+def load_normal(scene, planar: bool = True) -> None:
+    """Load the loop compiled for the scene's law (see coupled.load_coupled)."""
+    _run_loop(scene, planar, NO_STEPS, np.empty((0, len(COLUMNS) + len(NORMAL_COLUMNS))))
+
+
+def run_normal(scene, planar: bool = True) -> TimeSeries:
+    """Integrate the scene with its base moving along Z too; the series adds z, z_b, N."""
+    plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
+    out = np.empty((plan.rows, len(COLUMNS) + len(NORMAL_COLUMNS)))
+    check_finished(_run_loop(scene, planar, plan, out), scene)
+    return TimeSeries.from_table(out, NORMAL_COLUMNS)
+
+
+def normal_force_keys(series: TimeSeries, scene, steps: int) -> dict:
+    """The summary's normal-force keys over the last ``steps`` kept rows (the steady
+    cycles the drive force is averaged over): the fraction of them out of contact
+    (N = 0) and N's mean, min and max. A run without normal motion holds N = F_N."""
+    if "N" not in series.extra:
+        F_N = scene.contact.F_N
+        return {"contact_loss_fraction": 0.0, "normal_force_mean": F_N,
+                "normal_force_min": F_N, "normal_force_max": F_N}
+    n = series.extra["N"][-steps:]
+    return {"contact_loss_fraction": float(np.mean(n <= 0.0)),
+            "normal_force_mean": float(np.mean(n)), "normal_force_min": float(np.min(n)),
+            "normal_force_max": float(np.max(n))}
