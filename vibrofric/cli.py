@@ -14,7 +14,9 @@ def _interrupted_while_starting(signum, frame):
     os._exit(128 + signum)
 
 
-if __name__ == "__main__" or os.path.basename(sys.argv[0]) == "vibrofric":  # the command's own process
+# the command's own process (not main() called from Python: a test, a notebook)
+OWN_PROCESS = __name__ == "__main__" or os.path.basename(sys.argv[0]) == "vibrofric"
+if OWN_PROCESS:
     for _number in (signal.SIGINT, signal.SIGTERM):
         if signal.getsignal(_number) is not signal.SIG_IGN:  # a background job's stays ignored
             signal.signal(_number, _interrupted_while_starting)
@@ -524,6 +526,19 @@ def traceback_origin(err: BaseException) -> str:
     return f"{Path(tb.tb_frame.f_code.co_filename).name}:{tb.tb_lineno}"
 
 
+def _end_now(code: int) -> None:
+    """End the process with ``code`` at once, its output flushed. After an interrupt
+    the interpreter's own exit joins concurrent.futures' manager thread of a pool
+    whose workers were terminated (parallel.run_on_pool), which on Python 3.12 hung
+    once in a loaded test run, past a minute; nothing is left for exit to do."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(code)
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     quiet_libraries()
@@ -535,7 +550,10 @@ def main(argv=None) -> int:
             return COMMANDS[args.command](args) or 0
     except KeyboardInterrupt as interrupt:
         _announce(_interrupted(args.command, str(interrupt)))
-        return EXIT_TERMINATED if str(interrupt) == "SIGTERM" else EXIT_INTERRUPTED
+        code = EXIT_TERMINATED if str(interrupt) == "SIGTERM" else EXIT_INTERRUPTED
+        if OWN_PROCESS:   # what it wrote is cleared, its locks released: end here, not in
+            _end_now(code)  # the interpreter's exit, which can hang on a terminated pool
+        return code
     except OSError as err:
         if err.errno == errno.EPIPE:   # stdout's reader ended (| head): nothing more to say
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())   # (nor at exit)

@@ -17,6 +17,7 @@ import ctypes
 import os
 import signal
 import sys
+import threading
 
 _received = None  # the signal that arrived within interruptible(), by name
 
@@ -155,6 +156,29 @@ def _start_method() -> str:
     return "spawn" if mpi is not None and mpi.Is_initialized() else "fork"
 
 
+SIGNAL_LATENCY = 0.1   # s: the longest a Ctrl-C or SIGTERM waits while the pool is watched
+
+
+@contextlib.contextmanager
+def _signals_held():
+    """SIGINT and SIGTERM held back (pthread_sigmask) inside the block, delivered as it
+    ends. concurrent.futures.wait() holds every future's lock while it registers its
+    waiter: a KeyboardInterrupt raised in there leaves one held, and the pool's
+    manager thread, failing the futures of its terminated workers, then waits on it
+    for ever, as does the interpreter's exit (seen once on Python 3.12, a two-worker
+    sweep interrupted under load). Held back, the signal is raised once wait() has
+    returned."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, before)
+
+
 def run_on_pool(function, tasks, workers: int, on_result) -> None:
     """``function(task)`` for every task on ``workers`` processes, one task per
     process at a time; ``on_result(task, result)`` in the parent as each ends,
@@ -176,7 +200,8 @@ def run_on_pool(function, tasks, workers: int, on_result) -> None:
     try:
         futures = {pool.submit(function, task): task for task in tasks}
         while futures:
-            done, _ = wait(futures, return_when=FIRST_COMPLETED)
+            with _signals_held():
+                done, _ = wait(futures, timeout=SIGNAL_LATENCY, return_when=FIRST_COMPLETED)
             for future in done:
                 task = futures.pop(future)
                 for follow in on_result(task, future.result()) or ():
