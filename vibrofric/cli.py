@@ -551,9 +551,11 @@ def main(argv=None) -> int:
     except KeyboardInterrupt as interrupt:
         _announce(_interrupted(args.command, str(interrupt)))
         code = EXIT_TERMINATED if str(interrupt) == "SIGTERM" else EXIT_INTERRUPTED
-        if OWN_PROCESS:   # what it wrote is cleared, its locks released: end here, not in
-            _end_now(code)  # the interpreter's exit, which can hang on a terminated pool
-        return code
+        from .batch.mpi import launched
+
+        if OWN_PROCESS and not launched():   # what it wrote is cleared, its locks
+            _end_now(code)   # released: end here, not in the interpreter's exit (an MPI
+        return code          # rank's exit finalizes MPI, which passes on its output)
     except OSError as err:
         if err.errno == errno.EPIPE:   # stdout's reader ended (| head): nothing more to say
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())   # (nor at exit)

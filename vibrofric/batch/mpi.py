@@ -17,19 +17,24 @@ import time
 LAUNCHER_VARIABLES = ("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK")
 
 
+def launched() -> bool:
+    """Whether an MPI launcher started this process (world() is a communicator)."""
+    if not any(variable in os.environ for variable in LAUNCHER_VARIABLES):
+        return False
+    # OMPI_MCA_ess "singleton": inherited from a parent that initialized Open MPI on
+    # its own (a script or test that ran DOLFINx, then started this command): its
+    # PMIX_RANK is not a launcher's
+    return os.environ.get("OMPI_MCA_ess") != "singleton"
+
+
 def world():
-    """MPI.COMM_WORLD if an MPI launcher started this process, else None.
+    """MPI.COMM_WORLD if an MPI launcher started this process (launched()), else None.
 
     Even a world of one rank (``mpirun -n 1``) is used as such: a process pool
     started from an MPI rank would inherit the launcher's variables and its
     workers would take themselves for that rank.
     """
-    if not any(variable in os.environ for variable in LAUNCHER_VARIABLES):
-        return None
-    if os.environ.get("OMPI_MCA_ess") == "singleton":
-        # inherited from a parent that initialized Open MPI on its own (a
-        # script or test that ran DOLFINx, then started this command): its
-        # PMIX_RANK is not a launcher's
+    if not launched():
         return None
     from mpi4py import MPI
 
