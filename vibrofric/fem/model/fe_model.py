@@ -61,6 +61,9 @@ class FEModel:
     load: np.ndarray         # (dofs,) gravity + top pressure
     inverse_mass: np.ndarray  # (dofs,) 1 / m_i
     contact_nodes: np.ndarray  # (n,) node indices on CONTACT
+    initial_gap: np.ndarray    # (n,) each contact node's height above the base's plane at
+                               # rest, before the preload, m (its z: meshes/body.py places
+                               # the lowest contact point on z = 0; the block's face is all 0)
     contact_area: np.ndarray   # (n,) tributary areas a_i, m^2
     area_share: np.ndarray     # (n,) w_i = a_i / A, sum 1
     penalty: float             # N/m, whole face
@@ -218,6 +221,7 @@ def _built(scene, comm) -> FEModel:
 
     return FEModel(disc=disc, density=rho, block_mass=block_mass, pressure=pressure, load=load,
                    inverse_mass=1.0 / disc.mass, contact_nodes=contact_nodes,
+                   initial_gap=disc.coordinates[contact_nodes, 2].copy(),
                    contact_area=contact_area, area_share=area_share, penalty=penalty,
                    penalty_share=penalty_share,
                    nominal_normal=nominal_normal(scene.fem.normal_force, scene.contact.F_N,
