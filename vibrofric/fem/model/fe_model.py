@@ -221,7 +221,7 @@ def _built(scene, comm) -> FEModel:
 
     return FEModel(disc=disc, density=rho, block_mass=block_mass, pressure=pressure, load=load,
                    inverse_mass=1.0 / disc.mass, contact_nodes=contact_nodes,
-                   initial_gap=disc.coordinates[contact_nodes, 2].copy(),
+                   initial_gap=initial_gap(disc.coordinates, contact_nodes),
                    contact_area=contact_area, area_share=area_share, penalty=penalty,
                    penalty_share=penalty_share,
                    nominal_normal=nominal_normal(scene.fem.normal_force, scene.contact.F_N,
@@ -230,6 +230,18 @@ def _built(scene, comm) -> FEModel:
                    attach_weights=attach_weights, u0=u0, normal0=normal0,
                    elimination_order=elimination_order,
                    omega_max=omega_max, beta=beta, dt_stable=dt_stable)
+
+
+# Heights within this fraction of the body's extent are the base's plane itself: gmsh
+# leaves ~1e-18 m of rounding on the block's flat face (z = 0 by construction).
+PLANE_TOLERANCE = 1e-12
+
+
+def initial_gap(coordinates: np.ndarray, contact_nodes: np.ndarray) -> np.ndarray:
+    """(n,) each contact node's height z above the base's plane, m, exactly 0 on it."""
+    z = coordinates[contact_nodes, 2]
+    extent = float(np.ptp(coordinates, axis=0).max())
+    return np.where(np.abs(z) <= PLANE_TOLERANCE * extent, 0.0, z)
 
 
 def check_step(scene, model: FEModel) -> None:
