@@ -29,6 +29,8 @@ class BodyMesh:
     path         the .msh file (gmsh format 4.1), already placed
     facet_groups {name: physical tag} of the facet groups ("contact" always)
     cell_group   the physical tag of the body's volume
+    volume       the body's volume, m^3 (its density is mass / volume unless body.density
+                 is given): the block's L_x L_y L_z, a shape's or a user mesh's from its cells
     key          what identifies the mesh's content for the model cache (equal keys:
                  the same nodes, cells and groups)
     placement    (3,) the translation applied to the source's coordinates, m
@@ -38,6 +40,7 @@ class BodyMesh:
     path: Path
     facet_groups: dict = field(hash=False)
     cell_group: int
+    volume: float
     key: str
     placement: tuple = (0.0, 0.0, 0.0)
     description: str = ""
@@ -57,5 +60,6 @@ def block_body(size, level: str, cache_dir=None) -> BodyMesh:
     path = block.block_mesh_file(size, level, cache_dir)
     counts = block.level_counts(level)
     return BodyMesh(path=path, facet_groups=dict(BLOCK_GROUPS), cell_group=block.BLOCK,
+                    volume=float(size[0] * size[1] * size[2]),
                     key=f"block {tuple(float(s) for s in size)} {counts}",
                     description=block.describe(level, size))
