@@ -41,7 +41,7 @@ from dataclasses import dataclass
 SAFETY_OBSERVED = 1.25   # Roache's factor of safety, order observed from three steps
 SAFETY_ASSUMED = 3.0     # and where it is assumed (two steps) or not in the asymptotic range
 MIN_ORDER = 0.5          # below this the answers are not yet in their asymptotic range
-SCATTER = "not converging at a steady order"   # the note of answers that scatter
+SCATTER = "not converging at a steady order"   # said in the note of answers that scatter
 MAX_ORDER = 4.0          # above it the halvings' ratio is noise or a kink, not an order
 
 
@@ -55,6 +55,8 @@ class StepError:
     dt_asked   the step the scene asked for (time.dt)
     answers    ((dt, F), ...) the answers the estimate comes from, finest last
     note       how it was made, or why not
+    scatters   the answers scatter rather than converge at a steady order (the estimate
+               is then |F(dt) - F(finest)| + the last halving's change)
     """
 
     estimate: float | None
@@ -63,6 +65,7 @@ class StepError:
     dt_asked: float
     answers: tuple = ()
     note: str = ""
+    scatters: bool = False
 
     def step_for(self, accuracy: float, formal_order: float = 1.0) -> float | None:
         """The step that would bring the estimate to ``accuracy`` (assuming the error
@@ -83,7 +86,7 @@ class StepError:
 def scattered(error: StepError) -> bool:
     """The three answers of ``error`` scatter rather than converge at a steady order:
     a fourth, at h/8, makes a finer reference of the estimate (richardson)."""
-    return len(error.answers) == 3 and error.order is None and SCATTER in error.note
+    return len(error.answers) == 3 and error.scatters
 
 
 def not_estimated(dt_used: float, dt_asked: float, why: str) -> StepError:
@@ -131,7 +134,7 @@ def richardson(answers, dt_asked: float, formal_order: float = 1.0,
         steps = ", ".join(["dt"] + [f"dt/{2**k}" for k in range(1, len(answers))])
         return StepError(error, None, dt_used, dt_asked, answers,
                          f"{steps} {SCATTER}: |F(dt) - F(dt/{last})| + "
-                         f"|F(dt/{last // 2}) - F(dt/{last})|")
+                         f"|F(dt/{last // 2}) - F(dt/{last})|", scatters=True)
     error = abs(d1) / (1.0 - 2.0 ** -formal_order)
     return StepError(two_step_safety * error, None, dt_used, dt_asked, answers,
                      f"Richardson from dt and dt/2 (the scheme's order {formal_order:g} assumed, "
