@@ -47,8 +47,11 @@ POINT_MEMORY = 8_192               # a sweep's memory a point of its grid: ~2.5 
                                    # scene and name: 20,000 longitudinal points measured), its record
                                    # and its scene.toml's text as read back on a resume
 PLAN_SECONDS = 1e-3                # making a point (its scene, checked) before any runs: ~0.6 ms measured
-POINT_SECONDS = 2e-3               # a sweep point's own writing and reading back, beside its run
-WORKER_BYTES = 300 * 2**20         # a pool worker: the interpreter, numpy, numba and the loops
+POINT_SECONDS = 4e-3               # a sweep point's own work beside its runs (its scene, writing
+                                   # and reading back): 3.9 ms measured (docs/performance.md)
+WORKER_BYTES = 200 * 2**20         # a pool worker: the interpreter, numpy, numba and the loops,
+                                   # 115-139 MiB measured (docs/performance.md), with a margin;
+                                   # the FE model's arrays come on top (batch/study.py)
 LONGEST_RUN_S = 30 * 86400         # refused beyond: a typo in time.T rather than a study
 LONG_RUN_S = 3600                  # announced beyond (long_run_notice): within reach, but long
 
