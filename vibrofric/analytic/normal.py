@@ -63,7 +63,7 @@ from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolu
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from .coupled import (COS_PHASE, FX, FY, ROW, SIN_PHASE, VX, VY, XB, YB, X, Y, at_rest,
-                      check_finished, record_row)
+                      body_step, check_finished, record_row)
 
 ZETA_N = 0.02   # the normal contact's damping ratio (module docstring: why, and its effect)
 NORMAL_COLUMNS = ("z", "z_b", "N")   # the time series' columns after core.series.COLUMNS
@@ -97,13 +97,8 @@ def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_thet
     j = int(carried[ROW])
     for i in range(first, last + 1):
         t = i * dt
-        if prescribed:
-            x_new, y_new = v_d * t, 0.0
-        else:
-            f_d = k_d * (v_d * (t - dt) - x)
-            vx += dt * (f_d - f_x) / mass
-            vy += dt * (-f_y) / mass
-            x_new, y_new = x + dt * vx, y + dt * vy
+        x_new, y_new, vx, vy = body_step(prescribed, mass, k_d, v_d, t, dt, x, y, vx, vy,
+                                         f_x, f_y)
         vz += dt * (n - F_N) / mass                 # m z'' = N - F_N
         z += dt * vz
         u, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, u0, sin_phase, cos_phase,
