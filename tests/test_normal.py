@@ -140,22 +140,72 @@ def test_the_default_normal_stiffness_bounces_at_the_bar_on_its_penalty_spring()
     assert scene.normal_stiffness == pytest.approx(0.204 * fe_penalty(body.E, body.size), rel=0.01)
 
 
-@pytest.mark.parametrize("phase", [0.0, 90.0])
-def test_a_normal_run_carries_its_step_error_and_is_judged_settled(phase):
-    """The stepped answer's error from the runs at dt/2 and dt/4 (analytic/accuracy.py),
-    whatever step the base's start falls on; the summary's settled judgement."""
+@pytest.mark.parametrize("phase, method", [(0.0, "auto"), (90.0, "auto"), (90.0, "transient")])
+def test_a_normal_run_carries_its_step_error_and_is_judged_settled(phase, method):
+    """The answer's error (analytic/accuracy.py): the orbits at dt/2 and dt/4, or the
+    stepped runs at dt/2 and dt/4 whatever step the base's start falls on; the summary's
+    settled judgement and normal-force keys."""
     scene = load_scene("longitudinal", vibration__normal_amplitude=1e-7, time__T=0.3,
-                       vibration__normal_phase_deg=phase)
+                       vibration__normal_phase_deg=phase, time__method=method)
     series, summary = solve(scene)
-    assert summary["periodic"]["method"] == "transient"          # stepped, saying why
-    assert "normal motion" in summary["periodic"]["reason"]
-    assert summary["error_estimate"] is not None and summary["dt_used"] == scene.time.dt
+    if method == "auto":
+        assert summary["periodic"]["method"] == "periodic", summary["periodic"]
+        assert summary["dt_used"] == summary["periodic"]["dt"]
+    else:
+        assert summary["dt_used"] == scene.time.dt
+    assert summary["error_estimate"] is not None
     assert summary["settled"] is True
     # started on its forced response, the body keeps its contact at 0.6 of the threshold
     assert summary["contact_loss_fraction"] == 0.0
     assert summary["normal_force_max"] - scene.contact.F_N == pytest.approx(
         _forced_amplitude(scene), rel=1e-2)   # 1e-2: 250 steps a cycle here, 1000 above
     assert series.names[-3:] == normal.NORMAL_COLUMNS
+
+
+# 1.7e-7 m: 1% above the closed form's threshold of contact loss (168 nm), the orbit out
+# of contact over 5% of its cycle. The stepped run to 1.2 s has settled (its slowest
+# multiplier 0.98 a cycle: decayed below 1e-20 over its 4000 cycles), so the two agree to
+# rounding (measured 2e-13 on the ratio); 1e-9 leaves room for the compiled variants.
+@pytest.mark.parametrize("amplitude", [1e-7, 1.7e-7])
+def test_the_periodic_answer_with_normal_motion_is_the_settled_stepped_one(amplitude):
+    scene = load_scene("longitudinal", vibration__normal_amplitude=amplitude,
+                       vibration__normal_phase_deg=30.0, time__method="periodic")
+    _, answer = solve(scene, estimate=False)
+    block = answer["periodic"]
+    assert block["method"] == "periodic" and block["floquet_max_modulus"] < 1.0, block
+    stepped = scene.with_values({"time.method": "transient", "time.dt": block["dt"],
+                                 "time.T": 1.2})
+    _, transient = solve(stepped, estimate=False)
+    assert transient["window_drift"] < 1e-9
+    assert answer["F_dv"] == pytest.approx(transient["F_dv"], rel=1e-9)
+    # a whole number of cycles averaged: the same steps out of contact, the same N's extremes
+    assert answer["contact_loss_fraction"] == pytest.approx(transient["contact_loss_fraction"],
+                                                            abs=1e-12)
+    assert (answer["contact_loss_fraction"] > 0.0) == (amplitude > 1.68e-7)
+    for key in ("normal_force_mean", "normal_force_min", "normal_force_max"):
+        assert answer[key] == pytest.approx(transient[key], rel=1e-9, abs=1e-9 * scene.contact.F_N)
+
+
+def test_a_bouncing_orbit_judged_by_its_perturbations_alone_is_not_the_answer():
+    """At 1.75e-7 m the shooting finds an orbit out of contact 23% of its cycle whose
+    Jacobian claims a multiplier 4.2 (the cycle map is not smooth where the body lands)
+    and whose perturbations decay; the stepped run bounces off 96% of the time instead
+    (periodic.NormalCycleMap.bounce). The scene is stepped, saying why."""
+    scene = load_scene("longitudinal", vibration__normal_amplitude=1.75e-7, time__T=0.3)
+    _, summary = solve(scene, estimate=False)
+    block = summary["periodic"]
+    assert block["method"] == "transient" and block["converged"] and not block["stable"]
+    assert block["reason"].startswith("the orbit loses contact over ")
+    assert summary["contact_loss_fraction"] > 0.5
+
+
+def test_a_neighbours_state_of_another_layout_is_not_a_start():
+    """A sweep's continuation across normal_amplitude = 0 hands on a state without z,
+    dz/dt, N: the shooting starts from steady sliding instead."""
+    scene = load_scene("longitudinal", vibration__normal_amplitude=1e-7, time__T=0.3)
+    _, summary = solve(scene, start=np.zeros(3), estimate=False)
+    assert summary["periodic"]["method"] == "periodic"
+    assert summary["periodic"]["start"] == "steady sliding"
 
 
 @pytest.mark.parametrize("args", [
