@@ -8,7 +8,7 @@ import pytest
 from vibrofric.analytic import normal
 from vibrofric.analytic.coupled import run_coupled
 from vibrofric.analytic.longitudinal import run_longitudinal
-from vibrofric.analytic.solve import solve
+from vibrofric.analytic.solve import solve, solve_with_orbit
 from vibrofric.api import load_scene
 from vibrofric.core.bounce import bar_on_spring_root, bounce_stiffness, default_penalty
 from vibrofric.core.series import COLUMNS, RecordPlan, full_resolution_steps
@@ -223,3 +223,21 @@ def test_the_command_line_refuses_in_one_line_naming_the_key_and_writes_nothing(
     key = "vibration.normal_phase_deg" if "analytic" in args else "vibration.normal_amplitude"
     assert len(err) == 1 and err[0].startswith(f"vibrofric: invalid scene: {key}: "), err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_neighbours_orbit_starts_the_in_plane_state_not_the_normal_one():
+    """A sweep's continuation over the phase of the normal motion: the neighbour's orbit
+    at phase 0 hands on its in-plane state, the body's normal motion starting on this
+    scene's forced response (periodic.NormalCycleMap.from_neighbour); from the whole of
+    it the shooting found a bouncing orbit (86% out of contact) at phase 45. The same
+    orbit as from steady sliding, to Newton's tolerance (1e-9 on the ratio: the residual
+    1e-10 of F_c amplified by 1 / (1 - 0.98), the slowest multiplier)."""
+    A_n = 0.5 * 6.62e-8         # half the amplitude of contact loss on the coupled scene
+    neighbour = load_scene("coupled", vibration__normal_amplitude=A_n, vibration__theta_deg=0.0)
+    _, _, start = solve_with_orbit(neighbour, estimate=False)
+    scene = neighbour.with_values({"vibration.normal_phase_deg": 45.0})
+    _, continued, _ = solve_with_orbit(scene, start=start, estimate=False)
+    _, fresh, _ = solve_with_orbit(scene, estimate=False)
+    assert continued["periodic"]["start"] == "neighbour"
+    assert continued["contact_loss_fraction"] == fresh["contact_loss_fraction"] == 0.0
+    assert continued["F_dv_over_F_d0"] == pytest.approx(fresh["F_dv_over_F_d0"], rel=1e-9)
