@@ -275,3 +275,14 @@ def test_a_neighbours_orbit_starts_the_in_plane_state_not_the_normal_one():
     assert continued["periodic"]["start"] == "neighbour"
     assert continued["contact_loss_fraction"] == fresh["contact_loss_fraction"] == 0.0
     assert continued["F_dv_over_F_d0"] == pytest.approx(fresh["F_dv_over_F_d0"], rel=1e-9)
+
+
+def test_a_normal_scene_shorter_than_the_averaging_window_is_answered_by_its_orbit():
+    """Under auto the steady cycle needs no averaging window, with normal motion as
+    without; stepped (transient) the window is still asked for, naming time.T."""
+    scene = load_scene("longitudinal", vibration__normal_amplitude=1e-7, time__T=0.141)
+    _, summary = solve(scene, estimate=False)
+    assert summary["periodic"]["method"] == "periodic"
+    with pytest.raises(SceneError, match="^time.T: 0.141 s is too short"):
+        load_scene("longitudinal", vibration__normal_amplitude=1e-7, time__T=0.141,
+                   time__method="transient")
