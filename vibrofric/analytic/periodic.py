@@ -91,6 +91,7 @@ class CycleMap:
     the loop's further slots ``extra`` (none here; NormalCycleMap's z, dz/dt, N)."""
 
     extra = []          # the carried slots after the law's state in the shooting state
+                        # (a list: numpy indexes by it as by one axis)
     columns = len(COLUMNS)
 
     def __init__(self, scene, stepper: str = "coupled"):
@@ -230,14 +231,15 @@ class CycleMap:
 
 class NormalCycleMap(CycleMap):
     """Phi of a scene whose base moves along Z too: one cycle of normal.normal_loop
-    (the 1D stepper: its X alone). The shooting state adds the body's z and dz/dt and
-    the contact's normal force N of the cycle's last step (the loop's slots
-    normal.Z, VZ, N), so the orbit is periodic in the normal motion as in the rest.
-    The body starts no forced response (normal.start_gain) at the cycle's start: the
-    state says where it is."""
+    (for the 1D stepper with sin theta = eta_y = 0: its X motion alone). The shooting
+    state adds the body's z and dz/dt and the contact's normal force N of the cycle's
+    last step (the loop's slots normal.Z, VZ, N), so the orbit is periodic in the
+    normal motion as in the rest. The loop does not put the body on its forced
+    response at the cycle's start (NO_START): the state says where it is."""
 
     extra = [normal.Z, normal.VZ, normal.N]
     columns = len(COLUMNS) + len(normal.NORMAL_COLUMNS)
+    N_COLUMN = len(COLUMNS) + normal.NORMAL_COLUMNS.index("N")   # N in the cycle's rows
     NO_START = -1       # normal_loop's step that puts the body on its forced response: none
 
     def _head(self) -> tuple:
@@ -282,7 +284,7 @@ class NormalCycleMap(CycleMap):
         whose multipliers alone judge it stable (a short loss of contact, the map smooth
         enough) remains the answer: at 1.7e-7 m, 5% out of contact, it matched the stepped
         run's settled answer to 2e-13."""
-        lost = float(np.mean(cycle[:, len(COLUMNS) + 2] <= 0.0))
+        lost = float(np.mean(cycle[:, self.N_COLUMN] <= 0.0))
         if lost == 0.0:
             return ""
         return (f"the orbit loses contact over {lost:.1%} of its cycle, where the cycle map is not "
