@@ -240,8 +240,8 @@ def test_the_force_goes_to_zero_with_the_normal_force_and_the_state_stays_bounde
     """The same slip history (three times the suite's, so the slip a step is many times
     the sliding length mu N / k_t once N is small) at each normal force of VANISHING, a
     node from rest per force, and a node sliding at F_N that opens (N falling by a
-    decade every 5 steps, to 1e-12 F_N, as it slides on): every step's force within max_friction_coefficient N (so it
-    goes to 0 with N), the force and the state finite, and the state no larger than
+    decade every 5 steps, to 1e-12 F_N, as it slides on): every step's force within
+    max_friction_coefficient N (so it goes to 0 with N), the force and the state finite, and the state no larger than
     the same history leaves it at F_N (a state divided by N, or an explicit update
     stable only while the slip a step is below the sliding length, grows without bound
     as N goes to 0)."""

@@ -68,7 +68,8 @@ def test_a_base_moving_along_z_draws_the_lumped_normal_force(tmp_path, started):
                                summary["periodic"]["method"] == "periodic", "N")
     assert (out / "normal_force.png").read_bytes() == (tmp_path / "normal_force.png").read_bytes()
     run_analytic(scene, out=tmp_path / "api")
-    assert (tmp_path / "api" / "normal_force.png").read_bytes() == (out / "normal_force.png").read_bytes()
+    drawn = (out / "normal_force.png").read_bytes()
+    assert (tmp_path / "api" / "normal_force.png").read_bytes() == drawn
     # and a run without normal motion draws none
     assert main(["analytic", LONGITUDINAL, *SHORT, "--out", str(tmp_path / "plain")]) == 0
     assert not (tmp_path / "plain" / "normal_force.png").exists()

@@ -139,8 +139,8 @@ def plots_job(runs: dict, scene, directory: Path, fe=None, picture=None, steady=
     """What the plots of ``runs`` (a label to a TimeSeries) draw into ``directory``;
     with ``fe``, an FE run's TimeSeries, its normal force plot too (``fe_steady``: the
     run answered by its steady cycle); without, the lumped body's normal force N of a
-    run whose base moves along Z (its series has N); with ``picture``, the FE run's last node fields
-    (FEResult.fields), the block's picture too. ``steady``: the labels of the runs
+    run whose base moves along Z (its series has N); with ``picture``, the FE run's
+    last node fields (FEResult.fields), the block's picture too. ``steady``: the labels of the runs
     answered by their steady cycle (steady_labels), drawn against the base's phase
     where all are (plots.drive_force_figure)."""
     job = {"directory": Path(directory).absolute(), "scene": plotted_scene(scene),
@@ -148,9 +148,10 @@ def plots_job(runs: dict, scene, directory: Path, fe=None, picture=None, steady=
     if fe is not None:
         job["normal"] = SimpleNamespace(t=fe.t, extra={"F_n": fe.extra["F_n"]})
         job["normal_steady"], job["normal_column"] = fe_steady, "F_n"
-    else:
-        normal = {label: series for label, series in runs.items() if "N" in series.extra}
-        for label, series in normal.items():   # the analytic command's one run
+    else:   # the analytic command's one run, where its base moves along Z
+        lumped = [(label, series) for label, series in runs.items() if "N" in series.extra]
+        if lumped:
+            label, series = lumped[0]
             job["normal"] = SimpleNamespace(t=series.t, extra={"N": series.extra["N"]})
             job["normal_steady"], job["normal_column"] = label in steady, "N"
     if picture is not None:

@@ -60,7 +60,8 @@ def normal_oscillation_ratio(v_tilde: float, alpha: float) -> float:
     v_tilde = 1 on (the spring outruns the limit: sliding throughout). alpha enters only
     as the factor, so the ratio's reduction over alpha depends on v_tilde alone."""
     if not 0.0 <= alpha <= 1.0:
-        raise ValueError(f"alpha {alpha}: the closed form holds while contact is kept, 0 <= alpha <= 1")
+        raise ValueError(f"alpha {alpha}: the closed form holds while contact is kept, "
+                         "0 <= alpha <= 1")
     if v_tilde >= 1.0 or alpha == 0.0:
         return 1.0
     tau_1 = math.pi + math.asin(v_tilde)

@@ -309,7 +309,8 @@ class NormalCycleMap(CycleMap):
         z = super().sliding_state()
         vib, w = self.scene.vibration, self.scene.omega
         phase = math.radians(vib.normal_phase_deg or 0.0)
-        z_b, v_b = vib.normal_amplitude * math.sin(phase), vib.normal_amplitude * w * math.cos(phase)
+        z_b = vib.normal_amplitude * math.sin(phase)
+        v_b = vib.normal_amplitude * w * math.cos(phase)
         gain_re, gain_im = normal.start_gain(self.scene)
         z[self.law_slots.stop:] = (gain_re * z_b + gain_im * v_b / w,
                                    gain_re * v_b - gain_im * w * z_b, self.scene.contact.F_N)
