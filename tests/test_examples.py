@@ -19,6 +19,7 @@ FIGURES = {
     "fig09_transverse.py": ["fig09.png"],
     "fig10_11_transverse_time.py": ["fig10.png", "fig11.png"],
     "fig12_coupled.py": ["fig12.png"],
+    "fig12_normal.py": ["fig12_normal.png"],
 }
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -88,3 +89,50 @@ def test_fig12_coupled(tmp_path, monkeypatch):
     low, high = (dahl[dahl["vibration.k_v"] == k]["F_dv_over_F_d0"].to_numpy()
                  for k in (v["k_v"][0], v["k_v"][-1]))
     assert (high < low).all()
+
+
+def test_fig12_normal(tmp_path, monkeypatch):
+    v = run_example("fig12_normal.py", tmp_path, monkeypatch)
+    by_angle, by_phase, scene, r = v["by_angle"], v["by_phase"], v["scene"], v["r"]
+    assert not v["WITH_FE"]
+    k_n, A_loss = scene.normal_stiffness, v["A_loss"]
+    for amplitude in by_angle["vibration.normal_amplitude"].unique():
+        rows = by_angle[by_angle["vibration.normal_amplitude"] == amplitude]
+        # every point answered by its steady cycle (a neighbour's start included)
+        assert all(block["method"] == "periodic" for block in rows["periodic"])
+        ratio = rows["F_dv_over_F_d0"].to_numpy()
+        # the mirror across X (y -> -y) leaves z alone: symmetric about 180 deg as Fig 12
+        np.testing.assert_allclose(ratio, ratio[::-1], rtol=1e-9)
+        # below A_loss the body keeps its contact, its normal force swinging by the closed
+        # form k_n A_n r^2 / |1 - r^2| whatever the in-plane motion (1e-3: the peak between
+        # two of 333 steps a cycle, 4e-5; the contact's damping, 1e-5; Euler's shift of the
+        # bounce frequency, (w_n dt)^2 / 24 = 2e-4 on w_n, less on the swing)
+        assert (rows["contact_loss_fraction"] == 0.0).all()
+        swing = k_n * amplitude * r * r / abs(1.0 - r * r)
+        np.testing.assert_allclose(rows["normal_force_max"] - scene.contact.F_N, swing,
+                                   rtol=1e-3, atol=1e-9)
+    # the normal motion in phase with a backward-inclined in-plane one carries the body
+    # forward: at A_loss / 2 the drive force turns negative along -X (the vibratory conveyor)
+    half = by_angle[np.isclose(by_angle["vibration.normal_amplitude"], 0.5 * A_loss)]
+    assert half[half["vibration.theta_deg"] == 180.0]["F_dv_over_F_d0"].iloc[0] < 0.0
+    # theta = 180 at phase phi is theta = 0 at phi + 180 half a cycle later, and theta = 90
+    # at phi + 180 its mirror across X half a cycle later: the same answers but for where
+    # the steps fall in the cycle (333 a cycle: half a cycle is not whole steps), so within
+    # the two answers' step errors
+    assert all(block["method"] == "periodic" for block in by_phase["periodic"])
+    assert (by_phase["contact_loss_fraction"] == 0.0).all()
+    phases = sorted(by_phase["vibration.normal_phase_deg"].unique())
+    half_turn = (len(phases) - 1) // 2     # phases 0 to 360 at equal steps
+
+    def curve(theta):
+        rows = by_phase[by_phase["vibration.theta_deg"] == theta].sort_values(
+            "vibration.normal_phase_deg")
+        rows = rows[rows["vibration.normal_phase_deg"] < 360.0]   # 360 is 0 again
+        return rows["F_dv_over_F_d0"].to_numpy(), rows["error_estimate"].to_numpy()
+
+    for first, second, shift in [(0.0, 180.0, half_turn), (90.0, 90.0, half_turn)]:
+        (a, a_error), (b, b_error) = curve(first), curve(second)
+        shifted, shifted_error = np.roll(b, -shift), np.roll(b_error, -shift)
+        assert np.all(np.abs(a - shifted) <= a_error + shifted_error), (a, shifted)
+    # and the phase matters along X: the ratio swings by more than 0.3 over phi at theta = 0
+    assert np.ptp(curve(0.0)[0]) > 0.3

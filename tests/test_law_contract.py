@@ -220,6 +220,73 @@ def test_a_dropped_normal_force_returns_the_force_to_its_limit(name):
                  f"{limit:.6g} N", RADIAL_RETURN)
 
 
+# The normal forces a node that opens passes through on its way to N = 0 (the lumped body
+# lifting off, an FE node losing contact): 55 N to 5.5e-289 N, where the sliding length
+# mu N / k_t (7e-299 m) is still a normal float (below, subnormals' lost digits round the
+# force past its limit by 1e-5 of it: the float's limit, not the law's).
+VANISHING = F_N * np.array([1.0, 1e-3, 1e-6, 1e-9, 1e-12, 1e-100, 1e-290])
+# The paper's explicit update (eq 18) is stable only while the slip a step is below twice
+# the sliding length mu N / k_t: as N goes to 0 its state grows without bound (measured:
+# i = 1 to 9e66 at N = 1e-3 F_N, i = 0.5 to 100 times its value at F_N at N = 1e-9 F_N).
+# It does not have the property, and the test says so (strict: a fix is noticed).
+PAPER_UNSTABLE = pytest.mark.xfail(strict=True, reason="the paper's explicit update is "
+                                   "unstable where the slip a step exceeds 2 mu N / k_t")
+
+
+@pytest.mark.parametrize("name", [pytest.param(name, marks=PAPER_UNSTABLE)
+                                  if values.get("update") == "paper" else name
+                                  for name, (_, values) in LAWS.items()])
+def test_the_force_goes_to_zero_with_the_normal_force_and_the_state_stays_bounded(name):
+    """The same slip history (three times the suite's, so the slip a step is many times
+    the sliding length mu N / k_t once N is small) at each normal force of VANISHING, a
+    node from rest per force, and a node sliding at F_N that opens (N falling by a
+    decade every 5 steps, to 1e-12 F_N, as it slides on): every step's force within
+    max_friction_coefficient N (so it goes to 0 with N), the force and the state finite, and the state no larger than
+    the same history leaves it at F_N (a state divided by N, or an explicit update
+    stable only while the slip a step is below the sliding length, grows without bound
+    as N goes to 0)."""
+    law = contact_law(name)
+    mu_max = law.bounds(1e-6).max_friction_coefficient
+    slip, free = history(300, 1, 9)
+    reached = None          # the largest |state| component over the history at F_N
+    opening = F_N * 10.0 ** (-np.arange(1, 61) / 5.0)
+    paths = [np.full(len(slip), normal) for normal in VANISHING]
+    paths.append(np.concatenate([np.full(len(slip) - len(opening), F_N), opening]))
+    # 1e-12 relative: the force's norm rounded once, as in the Coulomb limit's test; the
+    # paper's update slides past its limit by its step error, up to (slip / s_c)^2 / 4 of
+    # it (i < 1), so that bound is not asked of it here (test_coulomb_limit...: BOUNDED)
+    bounded = name in BOUNDED
+    for path in paths:
+        state = law.law.initial_state(1)
+        largest_state, what = 0.0, f"N = {path[-1]:.3g} N"
+        if path[0] != path[-1]:
+            what = f"N falling from F_N to {path[-1]:.3g} N"
+        for step, (s, f, normal) in enumerate(zip(3.0 * slip, 3.0 * free, path)):
+            force = np.hypot(*contact_step(law, state, s, f, np.array([normal]), np.ones(1),
+                                           1e-6)[0])
+            conforms(bool(np.isfinite(force) and np.all(np.isfinite(state))),
+                     f"a finite force and state at {what} (step {step})",
+                     "a force or state that is not finite", "finite", FINITE)
+            if bounded:
+                conforms(force <= mu_max * normal * (1.0 + 1e-12),
+                         f"the force goes to 0 with the normal force: |F| within "
+                         f"max_friction_coefficient N at {what} (step {step}, N = {normal:.3g} N)",
+                         f"|F| = {force:.6g} N", f"{mu_max * normal:.6g} N", RADIAL_RETURN)
+            largest_state = max(largest_state, float(np.max(np.abs(state))))
+        if reached is None:
+            reached = largest_state
+        # 2: room for a state that does not shrink with N (a normalized bristle), none for
+        # one that grows as N goes to 0
+        conforms(largest_state <= 2.0 * reached,
+                 f"the state bounded as the normal force goes to 0: at {what} no "
+                 f"larger than twice what the same slip leaves at F_N",
+                 f"a state component up to {largest_state:.6g}", f"{2.0 * reached:.6g}",
+                 "keep the state within what sliding at the node's own normal force holds "
+                 "(the radial return), with no division by normal_force; an explicit update "
+                 "needs the slip a step below the sliding length mu N / k_t, which vanishes "
+                 "with N")
+
+
 @pytest.mark.parametrize("name", LAWS)
 def test_release_out_of_contact_and_return_from_rest(name):
     """A node out of contact for one step (N = 0) lets go of what it held: back in

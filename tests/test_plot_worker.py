@@ -52,6 +52,29 @@ def test_plots_are_those_drawn_in_one_process(tmp_path, started):
         assert (out / name).read_bytes() == (tmp_path / name).read_bytes(), name
 
 
+def test_a_base_moving_along_z_draws_the_lumped_normal_force(tmp_path, started):
+    """The command's normal_force.png of a run with normal motion is the one drawn in one
+    process (plots.normal_force_history of the series' N), and run_analytic writes it too."""
+    from vibrofric.api import run_analytic
+
+    changes = ["time.T=0.2", "vibration.normal_amplitude=1e-7"]
+    out = tmp_path / "run"
+    assert main(["analytic", LONGITUDINAL, *[a for c in changes for a in ("--set", c)],
+                 "--out", str(out)]) == 0
+    scene = scene_module.load(LONGITUDINAL, changes)
+    series, summary = solve(scene)
+    rows = written(series, scene)
+    plots.normal_force_history(rows, scene, tmp_path / "normal_force.png",
+                               summary["periodic"]["method"] == "periodic", "N")
+    assert (out / "normal_force.png").read_bytes() == (tmp_path / "normal_force.png").read_bytes()
+    run_analytic(scene, out=tmp_path / "api")
+    drawn = (out / "normal_force.png").read_bytes()
+    assert (tmp_path / "api" / "normal_force.png").read_bytes() == drawn
+    # and a run without normal motion draws none
+    assert main(["analytic", LONGITUDINAL, *SHORT, "--out", str(tmp_path / "plain")]) == 0
+    assert not (tmp_path / "plain" / "normal_force.png").exists()
+
+
 def test_the_friction_legend_leaves_the_axes_clear():
     """The friction curves sweep the axes' whole height every cycle: any legend inside
     would cover one. Its box lies wholly below the axes (and inside the figure)."""

@@ -89,3 +89,29 @@ def test_the_steady_normal_force_is_drawn_over_one_cycle(steady_run):
     fig = plots.normal_force_figure(fe, scene, steady=True)
     phase = np.asarray(fig.axes[0].get_lines()[0].get_xdata())
     assert phase[0] == pytest.approx(0.0, abs=1e-6) and phase[-1] == 360.0
+
+
+@pytest.mark.parametrize("method", ["auto", "transient"])
+def test_the_lumped_normal_force_is_drawn_where_the_base_moves_along_z(method):
+    """A base moving along Z past contact loss (1.7e-7 m: 5% of the cycle out of contact):
+    the lumped body's N is drawn, over one steady cycle against the phase (auto) or over
+    time (stepped), the curve the series' own N, reaching 0 (out of contact)."""
+    scene = scene_module.load(LONGITUDINAL, ["time.T=0.2", "vibration.normal_amplitude=1.7e-7",
+                                             f'time.method="{method}"'])
+    series, summary = solve(scene, estimate=False)
+    steady = summary.get("periodic", {}).get("method") == "periodic"
+    assert steady == (method == "auto")
+    rows = written(series, scene)
+    fig = plots.normal_force_figure(rows, scene, steady=steady, column="N")
+    ax = fig.axes[0]
+    curve = ax.get_lines()[0]
+    assert curve.get_label().startswith("contact normal force $N$")
+    if steady:
+        assert ax.get_xlabel() == plots.PHASE_LABEL
+        assert np.asarray(curve.get_xdata())[-1] == 360.0
+        N = np.asarray(curve.get_ydata())
+        assert N.min() == 0.0 and N.max() == summary["normal_force_max"]
+    else:
+        assert ax.get_xlabel().startswith("time")
+        # 0.2 s at 4 kHz after t_on: too many cycles to draw, each one's range shaded
+        assert any(isinstance(c, PolyCollection) for c in ax.collections)

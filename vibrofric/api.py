@@ -243,7 +243,8 @@ def run_analytic(scene: "Scene", out: str | Path | None = None, *, stepper: str 
     ``stepper``: "coupled" (the two-phase model, any vibration angle) or
     "longitudinal" (the 1D model [23], vibration along X). With ``out``, the
     results are written there as ``vibrofric analytic --out`` writes them
-    (scene.toml, summary.json, timeseries.csv, the two plots; ``force``
+    (scene.toml, summary.json, timeseries.csv, the two plots and, where the base moves
+    along Z, normal_force.png; ``force``
     replaces an earlier results directory, ``full_series`` writes every kept
     row). The first run in a process loads (or compiles) the stepper.
 
@@ -273,6 +274,9 @@ def run_analytic(scene: "Scene", out: str | Path | None = None, *, stepper: str 
             plots.drive_force_history({stepper: rows}, scene, stage / "drive_force.png",
                                       steady_labels({stepper: summary}))
             plots.friction_last_cycles({stepper: rows}, scene, stage / "friction_last_cycles.png")
+            if "N" in rows.extra:     # a base moving along Z: the lumped body's normal force
+                plots.normal_force_history(rows, scene, stage / "normal_force.png",
+                                           bool(steady_labels({stepper: summary})), "N")
     return Result(summary, _frame(series), target)
 
 

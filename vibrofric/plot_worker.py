@@ -26,8 +26,8 @@ rows are sent as soon as both models have run, and the child draws while the
 command writes the time series and the summary (docs/first-answer.md: what
 this saves a repeat Fig 7 run).
 
-The kinds of child (``PlotProcess(kind)``): "analytic" (two plots), "fe"
-(three plots and the picture).
+The kinds of child (``PlotProcess(kind)``): "analytic" (two plots, and the lumped
+body's normal force where the base moves along Z), "fe" (three plots and the picture).
 
 A failure on either side fails the run and leaves nothing. The child's is
 raised as PlotError (with its traceback) when ``drawing`` ends, inside the
@@ -138,15 +138,22 @@ def plots_job(runs: dict, scene, directory: Path, fe=None, picture=None, steady=
               fe_steady: bool = False) -> dict:
     """What the plots of ``runs`` (a label to a TimeSeries) draw into ``directory``;
     with ``fe``, an FE run's TimeSeries, its normal force plot too (``fe_steady``: the
-    run answered by its steady cycle); with ``picture``, the FE run's last node fields
-    (FEResult.fields), the block's picture too. ``steady``: the labels of the runs
+    run answered by its steady cycle); without, the lumped body's normal force N of a
+    run whose base moves along Z (its series has N); with ``picture``, the FE run's
+    last node fields (FEResult.fields), the block's picture too. ``steady``: the labels of the runs
     answered by their steady cycle (steady_labels), drawn against the base's phase
     where all are (plots.drive_force_figure)."""
     job = {"directory": Path(directory).absolute(), "scene": plotted_scene(scene),
            "steady": tuple(steady), **plotted_rows(runs, scene)}
     if fe is not None:
         job["normal"] = SimpleNamespace(t=fe.t, extra={"F_n": fe.extra["F_n"]})
-        job["normal_steady"] = fe_steady
+        job["normal_steady"], job["normal_column"] = fe_steady, "F_n"
+    else:   # the analytic command's one run, where its base moves along Z
+        lumped = [(label, series) for label, series in runs.items() if "N" in series.extra]
+        if lumped:
+            label, series = lumped[0]
+            job["normal"] = SimpleNamespace(t=series.t, extra={"N": series.extra["N"]})
+            job["normal_steady"], job["normal_column"] = label in steady, "N"
     if picture is not None:
         from .picture import picture_rows
 
@@ -214,7 +221,7 @@ def serve(kind: str) -> None:
     plots.friction_last_cycles(job["last_cycles"], job["scene"], directory / LAST_CYCLES)
     if "normal" in job:
         plots.normal_force_history(job["normal"], job["scene"], directory / NORMAL_FORCE,
-                                   job["normal_steady"])
+                                   job["normal_steady"], job["normal_column"])
 
 
 if __name__ == "__main__":

@@ -222,21 +222,30 @@ def error_per_point(records: list, keys: list, path) -> None:
     fig.savefig(path, dpi=120)
 
 
-def normal_force_figure(series, scene, steady: bool = False):
-    """The FE model's summed normal reaction: steady at F_N in a sound run. A run
-    answered by its steady cycle (``steady``): that cycle against the base's phase;
+# The normal forces drawn, by the series' column: (the curve's label, the figure's subject)
+NORMAL_FORCES = {
+    "F_n": (r"$\sum$ nodal normal force", "normal force over the contact face"),   # FE
+    "N": ("contact normal force $N$", "the lumped body's normal force"),          # analytic
+}
+
+
+def normal_force_figure(series, scene, steady: bool = False, column: str = "F_n"):
+    """A normal force against time (``series.extra[column]``, NORMAL_FORCES): the FE
+    model's summed normal reaction (steady at F_N in a sound run), or the lumped body's
+    contact force N of a base moving along Z (analytic/normal.py: 0 out of contact). A
+    run answered by its steady cycle (``steady``): that cycle against the base's phase;
     a stepped run: over time, its vibrated cycles as their mean and range where too
     many to draw (_history)."""
     fig, ax = figure((7, 3.5), RUN_DPI)
-    label = r"$\sum$ nodal normal force"
+    label, subject = NORMAL_FORCES[column]
     if steady and scene.vibrated:
         phase, rows = steady_phase(series.t, scene.vibration.f)
-        ax.plot(phase, np.asarray(series.extra["F_n"])[rows], lw=1.0, label=label)
+        ax.plot(phase, np.asarray(series.extra[column])[rows], lw=1.0, label=label)
         ax.set(xlabel=PHASE_LABEL, xlim=(0, 360), xticks=range(0, 361, 45),
-               title="normal force over the contact face, the steady cycle ending at $T$")
+               title=f"{subject}, the steady cycle ending at $T$")
     else:
-        _history(ax, series.t, series.extra["F_n"], scene, label)
-        ax.set(xlabel="time t (s)", title="normal force over the contact face")
+        _history(ax, series.t, series.extra[column], scene, label)
+        ax.set(xlabel="time t (s)", title=subject)
     ax.axhline(scene.contact.F_N, color="k", ls=":", lw=0.8, label=r"$F_N$")
     ax.set(ylabel="normal reaction (N)")
     ax.legend(fontsize=8, loc="best")   # the curve may fill any corner
@@ -244,6 +253,6 @@ def normal_force_figure(series, scene, steady: bool = False):
     return fig
 
 
-def normal_force_history(series, scene, path, steady: bool = False) -> None:
+def normal_force_history(series, scene, path, steady: bool = False, column: str = "F_n") -> None:
     """normal_force_figure() as PNG."""
-    normal_force_figure(series, scene, steady).savefig(path, **RUN_PNG)
+    normal_force_figure(series, scene, steady, column).savefig(path, **RUN_PNG)

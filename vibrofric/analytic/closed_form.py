@@ -1,4 +1,7 @@
-"""The rigid Coulomb limit (k_t -> infinity, body moved at exactly v_d).
+"""Closed forms of F_dv/F_d0: the rigid Coulomb limit, and an elastic contact under an
+oscillating normal force (normal_oscillation_ratio).
+
+The rigid Coulomb limit (k_t -> infinity, body moved at exactly v_d).
 
 With a rigid contact the friction force has the Coulomb magnitude F_c and the
 direction of the relative velocity of body and free end, (v_d - v_bx,
@@ -31,3 +34,49 @@ def coulomb_ratio(k_v: float, theta_deg: float, eta_y: float) -> float:
     v_by = k_v * np.cos(phi) * math.sin(theta)
     along = 1.0 - v_bx
     return float(np.mean(along / np.hypot(along, eta_y * v_by)))
+
+
+def normal_oscillation_ratio(v_tilde: float, alpha: float) -> float:
+    """<F_x> / (mu <N>) of an elastic-perfectly-plastic contact (a tangential spring k_x
+    that slips at mu N) dragged at a constant velocity v_0 while its normal force swings
+    as N = F_N (1 + alpha cos w t), alpha <= 1 (no contact lost): the stiff system of
+    Popov, Popov & Popov, "Reduction of friction by normal oscillations. I. Influence of
+    contact stiffness", Friction 5 (2017) 45-55 (the system far stiffer than the contact,
+    the body without inertia normal to it), derived here for that model.
+
+    v_tilde = k_x v_0 / (w mu alpha F_N): the spring's loading rate over the fastest rise
+    of the limit mu N. In units of mu F_N and of the phase tau = w t, the limit is
+    l(tau) = 1 + alpha cos tau and the spring, stuck, loads at alpha v_tilde. The force
+    slides along the limit while the limit rises no faster than that, sin tau >= -v_tilde;
+    it sticks from tau_1 = pi + arcsin v_tilde, rising on the line
+    l(tau_1) + alpha v_tilde (tau - tau_1), until the limit comes down to it at tau_2:
+    cos tau_2 - cos tau_1 = v_tilde (tau_2 - tau_1). The mean force falls short of the
+    limit's mean, 1, by the area between them over the stick:
+
+        1 - alpha / (2 pi) [sin tau_2 - sin tau_1 - (tau_2 - tau_1) cos tau_1
+                            - v_tilde (tau_2 - tau_1)^2 / 2]
+
+    1 - alpha as v_tilde -> 0 (stuck all the cycle at the lowest limit), 1 from
+    v_tilde = 1 on (the spring outruns the limit: sliding throughout). alpha enters only
+    as the factor, so the ratio's reduction over alpha depends on v_tilde alone."""
+    if not 0.0 <= alpha <= 1.0:
+        raise ValueError(f"alpha {alpha}: the closed form holds while contact is kept, "
+                         "0 <= alpha <= 1")
+    if v_tilde >= 1.0 or alpha == 0.0:
+        return 1.0
+    tau_1 = math.pi + math.asin(v_tilde)
+
+    def gap(tau):   # the limit above the stuck spring's line (positive while stuck)
+        return math.cos(tau) - math.cos(tau_1) - v_tilde * (tau - tau_1)
+
+    low, high = 2.0 * math.pi - math.asin(v_tilde), tau_1 + 2.0 * math.pi  # gap > 0, <= 0
+    for _ in range(200):            # bisection to the float's resolution
+        middle = 0.5 * (low + high)
+        if middle in (low, high):
+            break
+        low, high = (middle, high) if gap(middle) > 0.0 else (low, middle)
+    tau_2 = low
+    span = tau_2 - tau_1
+    area = (math.sin(tau_2) - math.sin(tau_1) - span * math.cos(tau_1)
+            - 0.5 * v_tilde * span * span)
+    return 1.0 - alpha * area / (2.0 * math.pi)

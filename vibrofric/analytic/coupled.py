@@ -40,6 +40,23 @@ def record_row(out, j, t, f_d, f_x, f_y, x, y, xb, yb):
     out[j, 7] = yb
 
 
+@njit(error_model="numpy", fastmath=FASTMATH, inline="always")
+def body_step(prescribed, mass, k_d, v_d, t, dt, x, y, vx, vy, f_x, f_y):
+    """The body's in-plane step to t = i dt: (x, y, v_x, v_y) after it.
+
+    Pulled through the drive spring from B at v_d t (eq 17 at the start of the step)
+    against the friction force (f_x, f_y) of the step before, by semi-implicit Euler
+    (eqs 12, 15-16); a prescribed drive moves it at v_d exactly. The step of
+    coupled_loop and normal.normal_loop, inlined by numba (inline="always") into each,
+    so that either loop's machine code is what it was with the lines written out."""
+    if prescribed:
+        return v_d * t, 0.0, vx, vy
+    f_d = k_d * (v_d * (t - dt) - x)          # eq 17 at the start of the step
+    vx += dt * (f_d - f_x) / mass            # eq 12
+    vy += dt * (-f_y) / mass                 # eqs 15-16
+    return x + dt * vx, y + dt * vy, vx, vy
+
+
 # The coupled loop's state between two chunks of steps (core.chunks): the body's
 # displacement and velocity (eqs 13-16), the friction force (eqs 38-39), the base's
 # displacement (eqs 24-25), the base's phase, and the next row of the kept series.
@@ -66,13 +83,8 @@ def coupled_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_the
     j = int(carried[ROW])
     for i in range(first, last + 1):
         t = i * dt
-        if prescribed:
-            x_new, y_new = v_d * t, 0.0
-        else:
-            f_d = k_d * (v_d * (t - dt) - x)          # eq 17 at the start of the step
-            vx += dt * (f_d - f_x) / mass            # eq 12
-            vy += dt * (-f_y) / mass                 # eqs 15-16
-            x_new, y_new = x + dt * vx, y + dt * vy
+        x_new, y_new, vx, vy = body_step(prescribed, mass, k_d, v_d, t, dt, x, y, vx, vy,
+                                         f_x, f_y)
         u, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, u0, sin_phase, cos_phase,
                                                     cos_step, sin_step)  # eq 23
         xb_new, yb_new = u * cos_theta, u * sin_theta  # eqs 24-25

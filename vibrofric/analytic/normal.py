@@ -3,8 +3,8 @@ section 6).
 
 Used only where vibration.normal_amplitude > 0 (solve.STEPPERS); every other run
 steps through coupled.coupled_loop / longitudinal.longitudinal_loop, which this
-module leaves as they are. Such a run is stepped through time.T whatever
-time.method: the body's z and dz/dt are not in the periodic solver's state yet.
+module leaves as they are. Its periodic steady state: periodic.NormalCycleMap, the
+shooting state extended by z, dz/dt and N.
 
 Signs: z is the body's upward displacement and z_b the base's, both from the static
 equilibrium under the load (z = z_b = 0 at rest). The contact is a unilateral spring
@@ -37,7 +37,10 @@ swing: on the paper's block (r = 0.18) that lost contact from 0.5 of the thresho
 below, and at 0.9 of it the body stayed on a bouncing orbit (a second attractor of
 the unilateral oscillator) out of contact 91% of the time.
 The friction law sees N(t) as its normal force every step (friction_law/contract.py:
-the force is held within mu_max N of that step, and N = 0 releases it).
+the force is held within mu_max N of that step, and N = 0 releases it). So the
+update is taken as diverged past core.law_limits.divergence_force scaled by
+max(1, N / F_N): a landing after a bounce pushes N, and with it the law's force,
+above their static values.
 
 The dashpot: c_n = 2 ZETA_N sqrt(k_n m). It damps the free bounce the start of the
 motion excites, so that a steady cycle exists (an undamped unilateral oscillator
@@ -48,8 +51,7 @@ within 1e-5 of 1 for r < 0.25.
 The default k_n: the FE block's first bounce mode on its penalty contact
 (core/bounce.py, Scene.normal_stiffness). What the lumped body still lacks: rocking (the FE
 block tips on its face under the friction's moment, its nodes' normal forces
-differ), the block's own elastic modes beyond the first, and an FE model whose
-base moves in Z (it refuses such a scene: scene/validation.py check_fe_scene).
+differ) and the block's own elastic modes beyond the first.
 """
 
 import math
@@ -63,7 +65,7 @@ from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolu
 from ..friction_law import law_kernel
 from ..friction_law.contract import FASTMATH
 from .coupled import (COS_PHASE, FX, FY, ROW, SIN_PHASE, VX, VY, XB, YB, X, Y, at_rest,
-                      check_finished, record_row)
+                      body_step, check_finished, record_row)
 
 ZETA_N = 0.02   # the normal contact's damping ratio (module docstring: why, and its effect)
 NORMAL_COLUMNS = ("z", "z_b", "N")   # the time series' columns after core.series.COLUMNS
@@ -97,13 +99,8 @@ def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_thet
     j = int(carried[ROW])
     for i in range(first, last + 1):
         t = i * dt
-        if prescribed:
-            x_new, y_new = v_d * t, 0.0
-        else:
-            f_d = k_d * (v_d * (t - dt) - x)
-            vx += dt * (f_d - f_x) / mass
-            vy += dt * (-f_y) / mass
-            x_new, y_new = x + dt * vx, y + dt * vy
+        x_new, y_new, vx, vy = body_step(prescribed, mass, k_d, v_d, t, dt, x, y, vx, vy,
+                                         f_x, f_y)
         vz += dt * (n - F_N) / mass                 # m z'' = N - F_N
         z += dt * vz
         u, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, u0, sin_phase, cos_phase,
@@ -126,7 +123,10 @@ def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_thet
             n, 1.0, state, params, dt)
         x, y, xb, yb = x_new, y_new, xb_new, yb_new
         f_d = f_x if prescribed else k_d * (v_d * t - x)
-        if not (math.sqrt(f_x * f_x + f_y * f_y) <= f_max and math.isfinite(f_d)
+        # f_max: core.law_limits.divergence_force at F_N; a landing's N above F_N
+        # raises it in proportion (the law holds |F| within mu_max N)
+        limit = f_max if n <= F_N else f_max * (n / F_N)
+        if not (math.sqrt(f_x * f_x + f_y * f_y) <= limit and math.isfinite(f_d)
                 and math.isfinite(z)):
             return i
         if i >= full_from or i % stride == 0:

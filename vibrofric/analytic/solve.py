@@ -60,11 +60,11 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None, estimate: bool
     the keys are there and say that none was made.
 
     The summary's normal-force keys (normal.normal_force_keys) are over the steady
-    cycles. A base moving along Z (normal.py) is stepped through time.T whatever
-    time.method: the body's normal motion is not in the shooting state yet.
+    cycles: the orbit's where it is the answer. A base moving along Z (normal.py) is
+    shot for with the body's z, dz/dt and N in the state (periodic.NormalCycleMap).
     """
     orbit = None
-    if scene.time.method != "transient" and scene.vibrated and not moves_normally(scene):
+    if scene.time.method != "transient" and scene.vibrated:
         load_cycle(scene, stepper)
         orbit = find_orbit(scene, stepper, start)
         if orbit.converged and orbit.stable:
@@ -93,9 +93,6 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None, estimate: bool
     summary.update(_error(summary, scene, scene.time.dt, stepped, estimate))
     if scene.time.method != "transient":
         summary["periodic"] = periodic_block(orbit, scene)
-        if moves_normally(scene):
-            summary["periodic"]["reason"] = ("the base moves along Z, and the body's normal "
-                                             "motion is not in the shooting state yet")
     return series, summary, None
 
 

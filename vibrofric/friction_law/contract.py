@@ -28,9 +28,15 @@ A law is a Python module (a file or an importable module) that defines
         whatever the node held before: what it holds beyond a limit that
         dropped returns to the limit at once (Coulomb's inequality at every
         instant; the radial return of computational contact). N <= 0 releases
-        the node: force 0, and back in contact it starts from rest. The
-        conformance suite (tests/test_law_contract.py) checks both under a
-        swinging, jumping and vanishing N. The asperity laws offer two other
+        the node: force 0, and back in contact it starts from rest. And the
+        force goes to 0 with N while the state stays bounded: a node that
+        opens passes through ever smaller N on its way to 0 (the lumped body
+        lifting off), where the sliding length mu N / k_t vanishes, so no
+        division by N and no update stable only while the slip a step is below
+        the sliding length (the paper's explicit Dahl update is not: its state
+        grows without bound there). The conformance suite
+        (tests/test_law_contract.py) checks all three under a swinging, jumping
+        and vanishing N. The asperity laws offer two other
         rules for comparison (asperity.py: normal_change).
 
     stored_energy(state, params, area_share) -> float
