@@ -37,3 +37,14 @@ class ReductionFailed(Refusal):
 class WindowDoesNotFit(Refusal):
     """A scene to be stepped whose averaging window does not fit between the
     vibration's onset and its end (core.series.check_stepped_window)."""
+
+
+class BadBody(Refusal):
+    """A body the FE model cannot take (meshes/): a mesh without a contact group, not
+    three-dimensional, inverted, starting inside the base, drawn in other units, too
+    large for the memory. ``key`` names the scene key to change (body.mesh, body.mass,
+    fem.mesh)."""
+
+    def __init__(self, message: str, key: str = "body.mesh"):
+        super().__init__(message)
+        self.key = key
