@@ -2,7 +2,9 @@
 
 The numerics never name scene keys: the scene layer maps each refusal to the
 key a user changes (scene.REFUSAL_KEYS), and the command line reports both
-kinds in words (cli.py).
+kinds in words (cli.py). BadBody alone carries its key: the body's meshes
+(vibrofric/meshes) are made from the scene's [body] and know which of its keys
+(or fem.mesh) made the body what it is.
 """
 
 

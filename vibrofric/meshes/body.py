@@ -101,9 +101,10 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
         source, what = None, f"body.shape {body.shape}"
         refinement.check_level(level)
         # the load shapes the mesh only where it sizes the Hertz patch
-        load = normal_load if shapes.patch_radius(body, normal_load) is not None else None
+        if level not in refinement.PATCH_ELEMENTS or shapes.patch_radius(body, normal_load) is None:
+            normal_load = None
         content = f"{body.shape} {sorted(shapes.dimensions(body).items())} {body.E!r} {body.nu!r} " \
-                  f"{load!r} {level}"
+                  f"{normal_load!r} {level}"
         stem = body.shape
     folder = Path(cache_dir) if cache_dir is not None else block.default_cache_dir()
     name = f"{stem}_{hashlib.sha256(content.encode()).hexdigest()[:16]}_{_FORMAT}"

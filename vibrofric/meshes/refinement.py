@@ -8,8 +8,8 @@ extent of a user's part):
     h_body     the element edge away from the contact, scale / BODY_DIVISIONS[level]
     h_contact  the edge at the points that touch the base first, scale /
                CONTACT_DIVISIONS[level]; at "fine" and "finer", where the normal load
-               is known, no more than the Hertz contact radius a over PATCH_ELEMENTS
-               (Johnson, Contact Mechanics, 1985, eqs 4.22-4.23 and 4.45-4.48: a
+               is known, small enough for PATCH_ELEMENTS elements across the Hertz
+               contact radius a as the edge grows (``patch_size``; Johnson, Contact Mechanics, 1985, eqs 4.22-4.23 and 4.45-4.48: a
                patch resolved by about 5 elements across its radius gives the Hertz
                pressure's resultant and peak within a few per cent)
 
@@ -47,8 +47,16 @@ def sizes(level: str, scale: float, patch_radius=None) -> tuple:
     h_body = scale / BODY_DIVISIONS[level]
     h_contact = scale / CONTACT_DIVISIONS[level]
     if patch_radius is not None and level in PATCH_ELEMENTS:
-        h_contact = min(h_contact, patch_radius / PATCH_ELEMENTS[level])
+        h_contact = min(h_contact, patch_size(patch_radius, PATCH_ELEMENTS[level]))
     return h_contact, h_body
+
+
+def patch_size(radius: float, elements: int) -> float:
+    """The edge at the first-touch point that puts ``elements`` elements across a patch of
+    ``radius`` while the edge grows as h(d) = h_c + GRADING d: the count is the integral of
+    dd / h(d) over [0, radius], ln(1 + GRADING radius / h_c) / GRADING, so
+    h_c = GRADING radius / (exp(GRADING elements) - 1)."""
+    return GRADING * radius / math.expm1(GRADING * elements)
 
 
 def contact_modulus(E: float, nu: float) -> float:
@@ -83,18 +91,28 @@ def surface_distance_field(gmsh, surfaces, h_contact: float, h_body: float) -> N
     fields), for a user's part whose contact group is known only as surfaces."""
     field = gmsh.model.mesh.field
     distance = field.add("Distance")
-    for option in ("FacesList", "SurfacesList"):   # gmsh 4.8's name, and newer versions'
-        field.setNumbers(distance, option, list(surfaces))
-    field.setNumber(distance, "Sampling", 40)
+    # (gmsh renamed options: 4.8's name, then newer versions')
+    _set(field.setNumbers, distance, ("FacesList", "SurfacesList"), list(surfaces))
+    _set(field.setNumber, distance, ("NNodesByEdge", "Sampling"), 40)
     threshold = field.add("Threshold")
-    for option in ("IField", "InField"):   # gmsh 4.8's name, and newer versions'
-        field.setNumber(threshold, option, distance)
+    _set(field.setNumber, threshold, ("IField", "InField"), distance)
     field.setNumber(threshold, "SizeMin", h_contact)
     field.setNumber(threshold, "SizeMax", h_body)
     field.setNumber(threshold, "DistMin", 0.0)
     field.setNumber(threshold, "DistMax", (h_body - h_contact) / GRADING)
     field.setAsBackgroundMesh(threshold)
     _size_from_field_only(gmsh)
+
+
+def _set(setter, tag, names, value) -> None:
+    """Set a field's option under whichever of its ``names`` this gmsh knows."""
+    for name in names:
+        try:
+            setter(tag, name, value)
+            return
+        except Exception:
+            continue
+    raise RuntimeError(f"gmsh knows none of the field options {names}")
 
 
 def _size_from_field_only(gmsh) -> None:

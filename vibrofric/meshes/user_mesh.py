@@ -7,7 +7,8 @@
                  extrusion layers, characteristic lengths it sets) are kept
     .step .stp   imported with OpenCASCADE and meshed likewise. A STEP file names no
                  groups: "contact" is every surface reaching the part's bottom (lowest
-                 z), "load" every surface reaching its top. To choose them, write a .geo
+                 z) but not its top, "load" every surface reaching its top but not its
+                 bottom. To choose them, write a .geo
                  that merges the STEP file and names its Physical Surfaces.
 
 Each is loaded into the current gmsh model (``load``); a file gmsh cannot read, or
@@ -91,17 +92,19 @@ def load(gmsh, path: Path, level: str) -> tuple | None:
 
 def _name_step_groups(model) -> None:
     """The STEP part's groups: its volumes; contact, the surfaces reaching its bottom; load,
-    those reaching its top."""
+    those reaching its top. A surface reaching both (a box's side) is neither, unless it
+    is all there is (a sphere's one face)."""
     volumes = [tag for _, tag in model.getEntities(3)]
     if not volumes:
         return
     box = np.array(model.getBoundingBox(-1, -1))
     eps = 1e-6 * float((box[3:] - box[:3]).max())
     boxes = {s: model.getBoundingBox(2, s) for _, s in model.getEntities(2)}
-    for tag, name, surfaces in (
-            (1, "contact", [s for s, b in boxes.items() if b[2] <= box[2] + eps]),
-            (2, "load", [s for s, b in boxes.items() if b[5] >= box[5] - eps])):
-        model.addPhysicalGroup(2, surfaces, tag)
+    bottom = {s for s, b in boxes.items() if b[2] <= box[2] + eps}
+    top = {s for s, b in boxes.items() if b[5] >= box[5] - eps}
+    for tag, name, surfaces in ((1, "contact", (bottom - top) or bottom),
+                                (2, "load", (top - bottom) or top)):
+        model.addPhysicalGroup(2, sorted(surfaces), tag)
         model.setPhysicalName(2, tag, name)
     model.addPhysicalGroup(3, volumes, 1)
     model.setPhysicalName(3, 1, "body")
