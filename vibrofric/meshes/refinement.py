@@ -2,8 +2,8 @@
 user's .geo or STEP file), and the size field that refines them toward the contact.
 
 The block keeps its element counts (block.LEVELS). Any other body gets two sizes from
-a level and the body's length scale ``scale`` (a shape's radius; half the smallest
-extent of a user's part):
+a level and the body's length scale ``scale`` (a shape's radius; for a user's part,
+half the cube root of its bounding box's volume):
 
     h_body     the element edge away from the contact, scale / BODY_DIVISIONS[level]
     h_contact  the edge at the points that touch the base first, scale /

@@ -79,7 +79,7 @@ def load(gmsh, path: Path, level: str) -> tuple | None:
         return None
     surfaces = model.getEntitiesForPhysicalGroup(2, contact[0])
     box = np.array(model.getBoundingBox(-1, -1))
-    scale = 0.5 * float((box[3:] - box[:3]).min())
+    scale = 0.5 * float(np.prod(box[3:] - box[:3])) ** (1.0 / 3.0)   # a ball's: 0.8 R
     h_contact, h_body = refinement.sizes(refinement.check_level(level), scale)
     refinement.surface_distance_field(gmsh, surfaces, h_contact, h_body)
     gmsh.option.setNumber("Mesh.ElementOrder", 1)

@@ -193,7 +193,12 @@ def validate(scene: Scene) -> None:
 
 def check_fe_scene(scene) -> None:
     """Refuse, before any work, a scene the FE model cannot run yet: a base moving
-    along Z (the lumped model's alone: analytic/normal.py)."""
+    along Z (the lumped model's alone: analytic/normal.py), a body other than the block
+    (meshes.body_mesh meshes it; the FE model's matrices are the block's)."""
+    if scene.body.mesh is not None or scene.body.shape != "block":
+        key = "body.mesh" if scene.body.mesh is not None else "body.shape"
+        raise SceneError(key, f"{scene.get(key)}: the FE model runs the block alone yet "
+                              "(vibrofric analytic takes any body: its mass)")
     if scene.vibration.normal_amplitude > 0.0:
         raise SceneError("vibration.normal_amplitude",
                          f"{scene.vibration.normal_amplitude:g} m: the FE model does not move the "
