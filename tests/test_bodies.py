@@ -346,3 +346,28 @@ def test_bad_body_keys_are_refused_when_the_scene_is_read(keys, key, refused_key
 def test_explicit_counts_are_the_blocks_alone(refused_key):
     keys = {"body": {"shape": "ball", "radius": 0.01, "mass": 0.0329}, "fem": {"mesh": "4x4x4"}}
     assert refused_key(lambda: scene_module.from_dict(keys)) == "fem.mesh"
+
+
+def test_a_bad_body_on_the_command_line_is_one_line_exit_2_nothing_written(tmp_path, capsys):
+    from vibrofric.cli import EXIT_BAD_INPUT, main
+
+    out = tmp_path / "never"
+    code = main(["analytic", "scenes/ball.toml", "--set", "body.radius=10", "--out", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == EXIT_BAD_INPUT and not out.exists()
+    assert len(err) == 1 and "body.radius" in err[0] and "millimetres" in err[0]
+
+
+def test_the_fe_run_refuses_a_body_other_than_the_block_before_any_work(tmp_path, capsys):
+    from vibrofric.cli import EXIT_BAD_INPUT, main
+
+    out = tmp_path / "never"
+    assert main(["run", "scenes/pin.toml", "--out", str(out)]) == EXIT_BAD_INPUT
+    assert not out.exists() and "body.shape" in capsys.readouterr().err
+
+
+def test_meshing_a_body_leaves_a_callers_gmsh_options_as_they_were(tmp_path):
+    with meshes.gmsh_model("caller") as gmsh:
+        before = {name: gmsh.option.getNumber(name) for name in refinement.OPTIONS}
+        meshes.body_mesh(shape_body("roller"), "tiny", cache_dir=tmp_path)
+        assert {name: gmsh.option.getNumber(name) for name in refinement.OPTIONS} == before

@@ -111,7 +111,7 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
     path, notes = folder / f"{name}.msh", folder / f"{name}.json"
     if not (path.exists() and notes.exists()):
         _write(path, notes, body, level, source, normal_load, what)
-    facts = json.loads(notes.read_text())
+    facts = json.loads(notes.read_text())   # the placement and sizes, as written
     with block.gmsh_model("vibrofric-body-check") as gmsh:
         gmsh.merge(str(path))
         data = read_model(gmsh)
@@ -123,8 +123,11 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
     checks.check_memory(len(data.points), what, "fem.mesh" if body.mesh is None else "body.mesh")
     cell_kinds = " and ".join(f"{len(c):,} {FIRST_ORDER_CELLS[t]}" for t, c in data.cells.items())
     sizes = facts["sizes"]
-    sized = (f", edges {1e3 * sizes[0]:.3g} mm at the contact to {1e3 * sizes[1]:.3g} mm"
-             if sizes else "")
+    sized = ""
+    if sizes:
+        sized = f", edges {1e3 * sizes[0]:.3g} mm at the contact to {1e3 * sizes[1]:.3g} mm"
+        if source is not None:
+            sized += " where the file sets none"
     dz = facts["placement"][2]
     return BodyMesh(path=path, facet_groups=data.facet_groups(),
                     cell_group=data.cell_groups()[0].tag, volume=volume,
@@ -140,7 +143,7 @@ def _write(path: Path, notes: Path, body, level, source, normal_load, what) -> N
     and its notes (the placement, the sizes), each to a temporary name then renamed."""
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.parent / f".{path.stem}.{uuid.uuid4().hex}"
-    with block.gmsh_model("vibrofric-body") as gmsh:
+    with block.gmsh_model("vibrofric-body") as gmsh, refinement.gmsh_options(gmsh):
         if source is None:
             sizes = shapes.build(gmsh, body, level, normal_load)
         else:

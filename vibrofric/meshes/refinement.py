@@ -18,6 +18,7 @@ GRADING, up to h_body: h(d) = min(h_body, h_contact + GRADING d). "coarse" is
 quick (a 10 mm ball: about 1,000 nodes); "fine" resolves the patch.
 """
 
+import contextlib
 import math
 
 # element edges per length scale, away from the contact and at it
@@ -113,6 +114,24 @@ def _set(setter, tag, names, value) -> None:
         except Exception:
             continue
     raise RuntimeError(f"gmsh knows none of the field options {names}")
+
+
+# The global gmsh options the meshing of a body sets (gmsh_options puts them back).
+OPTIONS = ("Mesh.MeshSizeExtendFromBoundary", "Mesh.MeshSizeFromPoints",
+           "Mesh.MeshSizeFromCurvature", "Mesh.Algorithm3D", "Mesh.ElementOrder",
+           "Mesh.MshFileVersion")
+
+
+@contextlib.contextmanager
+def gmsh_options(gmsh):
+    """Put back OPTIONS as they were (gmsh's options outlive a model: a caller's session,
+    and the block meshed after a body in it, keep their own)."""
+    kept = {name: gmsh.option.getNumber(name) for name in OPTIONS}
+    try:
+        yield
+    finally:
+        for name, value in kept.items():
+            gmsh.option.setNumber(name, value)
 
 
 def _size_from_field_only(gmsh) -> None:
