@@ -119,8 +119,8 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
     checks.check_groups(data, what)
     if body.density is None:
         checks.check_density(body.mass, volume, what,
-                             "body.mesh" if body.mesh is not None else "body.mass")
-    checks.check_memory(len(data.points), what, "fem.mesh" if body.mesh is None else "body.mesh")
+                             "body.mesh" if body.mesh is not None else "body.radius")
+    checks.check_memory(len(data.points), what, _memory_key(body))
     cell_kinds = " and ".join(f"{len(c):,} {FIRST_ORDER_CELLS[t]}" for t, c in data.cells.items())
     sizes = facts["sizes"]
     sized = ""
@@ -152,6 +152,7 @@ def _write(path: Path, notes: Path, body, level, source, normal_load, what) -> N
         data = read_model(gmsh)
         checks.check_cells(data, what)
         checks.check_groups(data, what)
+        checks.check_memory(len(data.points), what, _memory_key(body))
         shift = placement.translation(data)
         placement.move(gmsh, data, shift)
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
@@ -164,3 +165,8 @@ def _write(path: Path, notes: Path, body, level, source, normal_load, what) -> N
         finally:
             Path(f"{tmp}.json").unlink(missing_ok=True)
             Path(f"{tmp}.msh").unlink(missing_ok=True)
+
+
+def _memory_key(body) -> str:
+    """The key that makes a body's mesh smaller: its file's, or fem.mesh (a shape's level)."""
+    return "body.mesh" if body.mesh is not None else "fem.mesh"
