@@ -343,6 +343,15 @@ def test_bad_body_keys_are_refused_when_the_scene_is_read(keys, key, refused_key
     assert refused_key(lambda: scene_module.from_dict({"body": keys})) == key
 
 
+def test_the_lumped_normal_stiffness_is_asked_for_under_another_body(refused_key):
+    """contact.k_n's default is the block's FE bounce: another body's must be given."""
+    keys = {"body": {"shape": "ball", "radius": 0.01, "mass": 0.0329},
+            "vibration": {"normal_amplitude": 1e-7}}
+    assert refused_key(lambda: scene_module.from_dict(keys)) == "contact.k_n"
+    given = scene_module.from_dict({**keys, "contact": {"k_n": 1e8}})
+    assert given.normal_stiffness == 1e8
+
+
 def test_explicit_counts_are_the_blocks_alone(refused_key):
     keys = {"body": {"shape": "ball", "radius": 0.01, "mass": 0.0329}, "fem": {"mesh": "4x4x4"}}
     assert refused_key(lambda: scene_module.from_dict(keys)) == "fem.mesh"

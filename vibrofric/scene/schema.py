@@ -74,7 +74,9 @@ class Contact:
     eta_y: float = 0.71                    # transverse vibration transfer coefficient (eq 30)
     k_n: typing.Optional[float] = None     # the lumped body's normal contact stiffness; default:
                                            # it bounces at the FE block's first bounce frequency on
-                                           # its penalty contact fem.penalty (core/bounce.py)
+                                           # its penalty contact fem.penalty (core/bounce.py);
+                                           # a body other than the block sets it to move the
+                                           # base along Z
     parameters: dict = field(default_factory=dict)  # [contact]'s law parameters
     tables: dict = field(default_factory=dict)      # {law_key: {parameter: value}}
 

@@ -119,6 +119,11 @@ def validate(scene: Scene) -> None:
         raise SceneError("contact.eta_y", f"must lie in [0, 1], got {scene.contact.eta_y}")
     if scene.contact.k_n is not None and scene.contact.k_n <= 0:
         raise SceneError("contact.k_n", f"must be > 0, got {scene.contact.k_n}")
+    if (scene.vibration.normal_amplitude > 0.0 and scene.contact.k_n is None
+            and (scene.body.mesh is not None or scene.body.shape != "block")):
+        raise SceneError("contact.k_n", "needed for a base moving along Z under a body other "
+                                        "than the block: its default is matched to the FE "
+                                        "block's bounce (core/bounce.py)")
     if scene.vibration.normal_phase_deg is not None and scene.vibration.normal_amplitude == 0.0:
         raise SceneError("vibration.normal_phase_deg",
                          f"{scene.vibration.normal_phase_deg:g} deg is the phase of a normal motion "
