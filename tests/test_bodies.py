@@ -223,15 +223,20 @@ def test_a_msh_file_is_read_as_it_is(tmp_path, cache):
     assert coarse.volume == pytest.approx(math.prod(meshes.DEFAULT_SIZE), rel=1e-12)
 
 
-def test_a_step_part_names_its_bottom_contact_and_its_top_load(tmp_path, cache):
+def test_a_step_part_is_read_in_metres_its_bottom_contact_and_its_top_load(tmp_path, cache):
+    """A STEP file declares its unit (gmsh writes millimetres, as most CAD does): a box of
+    20 x 20 x 10 mm drawn 5 mm above the origin is read as 0.02 x 0.02 x 0.01 m, placed."""
     step = tmp_path / "part.step"
     with meshes.gmsh_model("step") as gmsh:
-        gmsh.model.occ.addBox(0, 0, 0.005, 0.02, 0.02, 0.01)
+        gmsh.model.occ.addBox(0, 0, 5, 20, 20, 10)
         gmsh.model.occ.synchronize()
         gmsh.write(str(step))
+    assert "SI_UNIT(.MILLI.,.METRE.)" in step.read_text()
     body = scene_module.from_dict({"body": {"mesh": str(step), "mass": STEEL * 4e-6}}).body
     mesh = meshes.body_mesh(body, "coarse", cache_dir=cache)
     msh, groups = read(mesh)
+    assert mesh.volume == pytest.approx(4e-6, rel=1e-9)
+    assert mesh.placement == pytest.approx((0.0, 0.0, -0.005), rel=1e-12)
     assert msh.points[groups["contact"], 2].max() == pytest.approx(0.0, abs=1e-12)
     assert msh.points[groups["load"], 2].min() == pytest.approx(0.01, rel=1e-9)
 

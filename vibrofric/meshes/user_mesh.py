@@ -5,7 +5,8 @@
                  level's sizes, refined toward its "contact" surfaces
                  (meshes/refinement.py). Its own mesh controls (transfinite curves,
                  extrusion layers, characteristic lengths it sets) are kept
-    .step .stp   imported with OpenCASCADE and meshed likewise. A STEP file names no
+    .step .stp   imported with OpenCASCADE, converted to metres from the unit the file
+                 declares, and meshed likewise. A STEP file names no
                  groups: "contact" is every surface reaching the part's bottom (lowest
                  z) but not its top, "load" every surface reaching its top but not its
                  bottom. To choose them, write a .geo
@@ -61,8 +62,7 @@ def load(gmsh, path: Path, level: str) -> tuple | None:
     suffix = path.suffix.lower()
     try:
         if suffix in (".step", ".stp"):
-            model.occ.importShapes(str(path))
-            model.occ.synchronize()
+            _import_step(gmsh, path)
             _name_step_groups(model)
         else:
             gmsh.merge(str(path))   # (a .geo is synchronized as its script ends)
@@ -88,6 +88,18 @@ def load(gmsh, path: Path, level: str) -> tuple | None:
     except Exception as err:
         raise BadBody(f"{path}: gmsh cannot mesh it ({_gmsh_message(err)})") from None
     return h_contact, h_body
+
+
+def _import_step(gmsh, path: Path) -> None:
+    """Import a STEP file converted to metres from the unit it declares (CAD files are
+    mostly in millimetres), gmsh's unit option put back afterwards."""
+    unit = gmsh.option.getString("Geometry.OCCTargetUnit")
+    gmsh.option.setString("Geometry.OCCTargetUnit", "M")
+    try:
+        gmsh.model.occ.importShapes(str(path))
+        gmsh.model.occ.synchronize()
+    finally:
+        gmsh.option.setString("Geometry.OCCTargetUnit", unit)
 
 
 def _name_step_groups(model) -> None:
