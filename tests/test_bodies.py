@@ -348,6 +348,27 @@ def test_bad_body_keys_are_refused_when_the_scene_is_read(keys, key, refused_key
     assert refused_key(lambda: scene_module.from_dict({"body": keys})) == key
 
 
+def test_the_scene_names_the_shapes_the_meshes_draw():
+    assert set(scene_module.schema.SHAPE_KEYS) == {"block", *shapes.SHAPES}
+
+
+def test_a_hexahedron_folded_at_a_corner_is_refused():
+    """A unit cube whose top corner above the origin is pushed through the bottom: its
+    volume stays > 0, its Jacobian at that corner does not."""
+    cube = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                     [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=float)
+    folded = cube.copy()
+    folded[4] = [0.9, 0.9, 0.2]
+    for points, refused in ((cube, False), (folded, True)):
+        data = mesh_data.MeshData(points, {mesh_data.HEXAHEDRON: np.arange(8)[None, :]})
+        assert mesh_data.hexahedron_volumes(points, data.cells[5])[0] > 0
+        if refused:
+            with pytest.raises(BadBody, match="inverted, flat or folded"):
+                checks.check_cells(data, "a cell")
+        else:
+            checks.check_cells(data, "a cell")
+
+
 def test_the_lumped_normal_stiffness_is_asked_for_under_another_body(refused_key):
     """contact.k_n's default is the block's FE bounce: another body's must be given."""
     keys = {"body": {"shape": "ball", "radius": 0.01, "mass": 0.0329},
@@ -385,3 +406,14 @@ def test_meshing_a_body_leaves_a_callers_gmsh_options_as_they_were(tmp_path):
         before = {name: gmsh.option.getNumber(name) for name in refinement.OPTIONS}
         meshes.body_mesh(shape_body("roller"), "tiny", cache_dir=tmp_path)
         assert {name: gmsh.option.getNumber(name) for name in refinement.OPTIONS} == before
+
+
+def test_a_mesh_is_named_relative_to_the_scene_file_or_on_the_command_line_to_here(
+        tmp_path, monkeypatch):
+    scene = scene_module.load("scenes/longitudinal.toml", ["body.mesh=examples/bodies/block.geo"])
+    assert scene.body.mesh == str(EXAMPLES / "block.geo")
+    # a scene as run, written and read back elsewhere, names the same file
+    (tmp_path / "again.toml").write_text(scene_module.to_toml(scene_module.load(
+        EXAMPLES / "puck.toml")))
+    monkeypatch.chdir(tmp_path)
+    assert scene_module.load("again.toml").body.mesh == str(EXAMPLES / "puck.geo")

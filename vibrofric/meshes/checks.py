@@ -1,7 +1,8 @@
 """What a body's mesh must be before the FE model takes it, each failure one BadBody
 (core/errors.py) naming the scene key to change and the reason:
 
-    cells    3D first-order cells (tetrahedra, hexahedra), none inverted or flat
+    cells    3D first-order cells (tetrahedra, hexahedra), none inverted, flat or (a
+             hexahedron) folded at a corner
     groups   a facet group named "contact" (and "load", "drive" facets where present),
              one volume group
     density  the mass over the mesh's volume a density of a real solid (a part drawn in
@@ -16,7 +17,8 @@ import os
 import numpy as np
 
 from ..core.errors import BadBody
-from .mesh_data import FIRST_ORDER_CELLS, OTHER_CELLS, MeshData, cell_volumes
+from .mesh_data import (FIRST_ORDER_CELLS, HEXAHEDRON, OTHER_CELLS, MeshData, cell_volumes,
+                        hexahedron_corner_jacobians)
 
 # The densities of real solids, kg/m^3. The lightest a linear elastic body sliding on a
 # base is made of: wood (balsa 100-200), polymer foams of structural grade (100+); the
@@ -48,10 +50,14 @@ def check_cells(data: MeshData, what: str) -> np.ndarray:
                       "or a .geo ending in a volume)")
     volumes = cell_volumes(data)
     bad = int(np.count_nonzero(volumes <= 0.0))
+    if HEXAHEDRON in data.cells:   # a hexahedron folded at a corner may keep a volume > 0
+        corners = hexahedron_corner_jacobians(data.points, data.cells[HEXAHEDRON])
+        folded = np.any(corners <= 0.0, axis=1) & (volumes[-len(corners):] > 0.0)
+        bad += int(np.count_nonzero(folded))
     if bad:
-        raise BadBody(f"{what} has {bad} of {len(volumes)} cells inverted or flat (volume <= 0, "
-                      "their nodes in the wrong order or folded): remesh it, or reverse the "
-                      "inverted volumes")
+        raise BadBody(f"{what} has {bad} of {len(volumes)} cells inverted, flat or folded (a "
+                      "volume or a corner's Jacobian <= 0: their nodes in the wrong order or "
+                      "crossed): remesh it, or reverse the inverted volumes")
     if data.points[:, 2].ptp() == 0.0:
         raise BadBody(f"{what} is flat (every node at one height): a body is 3D")
     return volumes
