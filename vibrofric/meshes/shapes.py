@@ -56,11 +56,12 @@ def volume(body) -> float:
     if body.shape == "roller":
         return math.pi * R ** 2 * body.length
     if body.shape == "cylinder":
-        # the rounding of radius r takes off the ring swept by the square r x r minus its
-        # quarter disk (Pappus: area (1 - pi/4) r^2 at the centroid's distance from the axis)
+        # the rounding of radius r takes off the ring swept by the corner's spandrel (the
+        # square r x r less a quarter disk): Pappus, its area (1 - pi/4) r^2 times the path
+        # of its centroid, which lies r (10 - 3 pi) / (12 - 3 pi) in from the corner
         r = body.edge_radius
         corner_area = (1.0 - math.pi / 4.0) * r * r
-        centroid = R - r + r * (10.0 - 3.0 * math.pi) / (12.0 - 3.0 * math.pi)
+        centroid = R - r * (10.0 - 3.0 * math.pi) / (12.0 - 3.0 * math.pi)
         return math.pi * R * R * body.height - 2.0 * math.pi * centroid * corner_area
     raise ValueError(f"body.shape {body.shape!r} is not one of {', '.join(SHAPES)}")
 
