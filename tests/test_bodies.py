@@ -124,6 +124,16 @@ def test_the_ball_refines_toward_its_pole_and_resolves_its_hertz_patch_at_fine(c
     assert np.median(edges[distance > body.radius]) > 20 * np.median(edges[distance < a])
 
 
+def test_the_rollers_line_contact_is_too_narrow_for_isotropic_tetrahedra():
+    """shapes.patch_radius leaves the roller to its level: its Hertz strip (Johnson eq
+    4.45) under the scenes' 55 N is ~10 um wide, against the ball's 0.12 mm patch."""
+    roller = shape_body("roller")
+    b = refinement.hertz_line_half_width(55.0, roller.radius, roller.length, roller.E, roller.nu)
+    assert 5e-6 < b < 2e-5 and shapes.patch_radius(roller, 55.0) is None
+    ball = shape_body("ball")
+    assert shapes.patch_radius(ball, 55.0) == pytest.approx(1.2e-4, rel=0.02)
+
+
 def test_the_load_shapes_only_the_levels_that_resolve_the_patch(cache):
     body = shape_body("ball")
     coarse = {meshes.body_mesh(body, "coarse", cache_dir=cache, normal_load=F).path

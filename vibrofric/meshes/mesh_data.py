@@ -38,10 +38,6 @@ class MeshData:
     cells: dict
     groups: dict = field(default_factory=dict)
 
-    @property
-    def cell_count(self) -> int:
-        return sum(len(c) for c in self.cells.values())
-
     def facet_groups(self) -> dict:
         """{name: tag} of the named 2D groups."""
         return {g.name: g.tag for g in self.groups.values() if g.dim == 2 and g.name}

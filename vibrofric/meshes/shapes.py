@@ -33,7 +33,6 @@ CAP_ANGLE = math.radians(30.0)
 
 CONTACT, LOAD = 1, 2   # facet group tags
 VOLUME = 1             # cell group tag
-GROUPS = {"contact": CONTACT, "load": LOAD}
 
 
 def dimensions(body) -> dict:
