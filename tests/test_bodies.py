@@ -345,6 +345,7 @@ def test_a_mesh_too_large_for_the_memory_is_refused(cache, monkeypatch):
 
 @pytest.mark.parametrize("keys, key", [
     ({"shape": "ball", "radius": 10.0, "mass": 0.5}, "body.radius"),   # drawn in mm
+    ({"shape": "ball", "radius": 0.01}, "body.mass"),   # the block's 0.5 kg: 119,000 kg/m^3
     ({"shape": "ball"}, "body.radius"),
     ({"shape": "ball", "radius": -0.01}, "body.radius"),
     ({"shape": "cylinder", "radius": 0.004}, "body.height"),

@@ -118,8 +118,9 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
     volume = float(checks.check_cells(data, what).sum())
     checks.check_groups(data, what)
     if body.density is None:
+        lengths = "body.mesh" if body.mesh is not None else "body.radius"
         checks.check_density(body.mass, volume, what,
-                             "body.mesh" if body.mesh is not None else "body.radius")
+                             checks.density_key(body.mass, volume, lengths))
     checks.check_memory(len(data.points), what, _memory_key(body))
     cell_kinds = " and ".join(f"{len(c):,} {FIRST_ORDER_CELLS[t]}" for t, c in data.cells.items())
     sizes = facts["sizes"]

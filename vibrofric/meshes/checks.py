@@ -83,17 +83,24 @@ def check_groups(data: MeshData, what: str) -> None:
                       "is one elastic material, one Physical Volume")
 
 
+def density_key(mass: float, volume: float, length_key: str) -> str:
+    """The key to change for a density out of range: too light, the body's lengths
+    (``length_key``: body.mesh, body.radius) were drawn in other units; too heavy, body.mass."""
+    return length_key if mass / volume < DENSITY_RANGE[0] else "body.mass"
+
+
 def check_density(mass: float, volume: float, what: str, key: str = "body.mesh") -> None:
     """Refuse a mass over volume outside DENSITY_RANGE, saying which units would fit."""
     density = mass / volume
     low, high = DENSITY_RANGE
     if low <= density <= high:
         return
-    hint = ""
-    if density * 1e9 >= low and density * 1e9 <= high * 1e3:
+    if low <= density * 1e9 <= high:   # a volume 1e9 times too large: lengths 1e3 times
         hint = ": drawn in millimetres? the scene's lengths are metres"
     elif density < low:
         hint = ": is it drawn in other units than metres?"
+    else:
+        hint = ": is the mass right for its size?"
     raise BadBody(f"{what} has a volume of {volume:.4g} m^3, so body.mass = {mass:g} kg gives a "
                   f"density of {density:.4g} kg/m^3, outside the range of real solids "
                   f"{low:g}-{high:g} kg/m^3{hint} (set body.density if the value is meant)", key)

@@ -85,8 +85,10 @@ def _check_body(scene) -> None:
         except ValueError as err:
             raise SceneError("fem.mesh", str(err)) from None
     if body.mesh is None and body.shape != "block" and body.density is None:
+        volume = shapes.volume(body)
         try:
-            mesh_checks.check_density(body.mass, shapes.volume(body), kind, "body.radius")
+            mesh_checks.check_density(body.mass, volume, kind,
+                                      mesh_checks.density_key(body.mass, volume, "body.radius"))
         except BadBody as err:
             raise SceneError(err.key, str(err)) from None
 
