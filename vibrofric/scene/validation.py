@@ -1,7 +1,6 @@
 """Every value of a built scene checked before any work (docs/scenes.md): a physically
 invalid or unrunnable one raises SceneError naming its key."""
 
-import dataclasses
 import math
 from pathlib import Path
 
