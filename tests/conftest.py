@@ -50,7 +50,7 @@ def refused_key():
         except scene_module.SceneError as error:
             return error.key
         except Refusal as error:
-            return scene_module.REFUSAL_KEYS[type(error)]
+            return scene_module.refused(error).key
         raise AssertionError("the scene was not refused")
     return key
 

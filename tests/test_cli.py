@@ -42,7 +42,7 @@ def test_a_shipped_scene_by_name_from_another_directory(tmp_path, capsys, monkey
     assert answers[0] == answers[1]
     assert main(["analytic", "longitudinl", *SHORT, "--out", str(tmp_path / "never")]) == EXIT_BAD_INPUT
     err = capsys.readouterr().err
-    assert "longitudinl: no such scene file, nor a shipped scene (coupled, longitudinal, transverse)" in err
+    assert "longitudinl: no such scene file, nor a shipped scene (ball, coupled, longitudinal, pin, transverse)" in err
     assert not (tmp_path / "never").exists()
 
 

@@ -17,8 +17,9 @@ PACKAGE = Path(__file__).resolve().parent.parent / "vibrofric"
 # analytic and the FE models stay independent), only what lies below.
 FLOORS = (
     {"disk_cache", "library_logs", "parallel", "sense", "picture", "answer_text"},  # helpers that import no vibrofric module
-    {"friction_law", "meshes"},
+    {"friction_law"},
     {"core"},
+    {"meshes"},                                       # the body's meshes (refusals: core.errors)
     {"analytic", "fem", "scene"},                     # the two models; the scene file
     {"grid", "output", "plots"},                      # what a run reads and writes
     {"fe_beside_analytic", "plot_worker", "warm"},                  # a run of each model, side by side

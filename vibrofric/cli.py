@@ -98,7 +98,8 @@ def _out_argument(parser, what: str):
 
 def _scene_arguments(parser):
     parser.add_argument("scene", type=Path,
-                        help="scene file (TOML), or a shipped scene: longitudinal, transverse, coupled")
+                        help="scene file (TOML), or a shipped scene: longitudinal, transverse, coupled, "
+                             "ball, pin")
     parser.add_argument("--set", dest="overrides", action="append", default=[],
                         metavar="SECTION.KEY=VALUE", help="override a scene key (repeatable)")
     _out_argument(parser, "results directory")

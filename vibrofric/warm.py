@@ -46,9 +46,10 @@ STEPPERS = {"coupled": tuple(BUILT_IN), "longitudinal": ("dahl",)}   # longitudi
 METHODS = ("periodic", "transient")
 # Every shipped scene (vibrofric/scenes), run as it is but a few cycles long, through the
 # FE integrators by both methods, alone and as a sweep's point: its own block (the 2 kg
-# one of coupled and transverse: its FE model built and cached) and its own motion.
+# one of coupled and transverse: its FE model built and cached) and its own motion. (The
+# ball's and the pin's through the lumped model alone: scene.check_fe_scene.)
 SCENE_FILES = Path(__file__).resolve().parent / "scenes"
-SHIPPED = ("coupled", "longitudinal", "transverse")
+SHIPPED = ("ball", "coupled", "longitudinal", "pin", "transverse")
 SHORT = {"time.T": 0.004, "vibration.t_on": 0.001, "time.average_cycles": 4,
          "fem.output_every": 0}
 
@@ -65,7 +66,7 @@ def warm(fe: bool = True) -> None:
           + (" and every FE integrator, and building the shipped scenes' FE models" if fe
              else "") + ": once, at set-up", file=sys.stderr, flush=True)
 
-    def run(scene, laws=BUILT_IN, as_sweep_points=False):
+    def run(scene, laws=BUILT_IN, as_sweep_points=False, fe=fe):
         """The scene through the steppers and (with ``fe``) every integrator, stepped and
         shot for its steady cycle, with each of ``laws``; ``as_sweep_points``: the FE runs
         once more as a sweep's points run (their shared model's arrays read-only:
@@ -93,8 +94,19 @@ def warm(fe: bool = True) -> None:
         with pointer_route():
             run(base, ("dahl",))
         for name in SHIPPED:
-            run(scene_module.load(SCENE_FILES / f"{name}.toml").with_values(SHORT), ("dahl",),
-                as_sweep_points=True)
+            scene = scene_module.load(SCENE_FILES / f"{name}.toml").with_values(SHORT)
+            run(scene, ("dahl",), as_sweep_points=True, fe=fe and _fe_runs(scene))
+
+
+def _fe_runs(scene) -> bool:
+    """Whether the FE model takes the scene (scene.check_fe_scene)."""
+    from .scene import SceneError, check_fe_scene
+
+    try:
+        check_fe_scene(scene)
+    except SceneError:
+        return False
+    return True
 
 
 if __name__ == "__main__":

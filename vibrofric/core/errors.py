@@ -2,7 +2,9 @@
 
 The numerics never name scene keys: the scene layer maps each refusal to the
 key a user changes (scene.REFUSAL_KEYS), and the command line reports both
-kinds in words (cli.py).
+kinds in words (cli.py). BadBody alone carries its key: the body's meshes
+(vibrofric/meshes) are made from the scene's [body] and know which of its keys
+(or fem.mesh) made the body what it is.
 """
 
 
@@ -37,3 +39,14 @@ class ReductionFailed(Refusal):
 class WindowDoesNotFit(Refusal):
     """A scene to be stepped whose averaging window does not fit between the
     vibration's onset and its end (core.series.check_stepped_window)."""
+
+
+class BadBody(Refusal):
+    """A body the FE model cannot take (meshes/): a mesh without a contact group, not
+    three-dimensional, inverted, starting inside the base, drawn in other units, too
+    large for the memory. ``key`` names the scene key to change (body.mesh, body.mass,
+    fem.mesh)."""
+
+    def __init__(self, message: str, key: str = "body.mesh"):
+        super().__init__(message)
+        self.key = key

@@ -31,9 +31,10 @@ REFUSAL_KEYS = {
     errors.NoEnergyBalance: "fem.energy",
     errors.ReductionFailed: "fem.cutoff",
     errors.WindowDoesNotFit: "time.average_cycles",
+    errors.BadBody: "body.mesh",
 }
 
 
 def refused(refusal: errors.Refusal) -> SceneError:
     """The model's refusal as a SceneError naming the key to change."""
-    return SceneError(REFUSAL_KEYS[type(refusal)], str(refusal))
+    return SceneError(getattr(refusal, "key", None) or REFUSAL_KEYS[type(refusal)], str(refusal))

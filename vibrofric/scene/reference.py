@@ -20,7 +20,8 @@ from .schema import CHOICES, SECTIONS, Scene, law_key
 # something the key names); a law's parameters carry their own (Parameter.unit).
 UNITS = {
     "body.mass": "kg", "body.size": "m", "body.E": "Pa", "body.nu": "", "body.density": "kg/m^3",
-    "body.gravity": "m/s^2",
+    "body.gravity": "m/s^2", "body.radius": "m", "body.height": "m", "body.length": "m",
+    "body.edge_radius": "m",
     "contact.F_N": "N", "contact.eta_y": "", "contact.k_n": "N/m",
     "drive.k_d": "N/m", "drive.v_d": "m/s",
     "vibration.f": "Hz", "vibration.k_v": "", "vibration.theta_deg": "deg", "vibration.t_on": "s",

@@ -22,12 +22,33 @@ from .errors import SceneError
 
 @dataclass(frozen=True)
 class Body:
-    mass: float = 0.5                      # kg, the block's mass
-    size: tuple = (0.03, 0.04, 0.053)      # m: X (sliding), Y, Z (height)
-    E: float = 209e9                       # Pa, the block's Young's modulus
-    nu: float = 0.3                        # the block's Poisson's ratio
+    shape: str = "block"                   # "block" | "cylinder" (a pin on its flat end) |
+                                           # "ball" | "roller" (a cylinder on its side, axis
+                                           # along Y); FE meshes: vibrofric/meshes/shapes.py
+    mesh: typing.Optional[str] = None      # the user's own body instead: a .msh, .geo or .step
+                                           # file (relative to the scene file) whose Physical
+                                           # Surface "contact" names the facets that may touch
+                                           # the base, optionally "load" and "drive"
+                                           # (docs/your-own-body.md)
+    radius: typing.Optional[float] = None  # m: cylinder, ball and roller (required by them)
+    height: typing.Optional[float] = None  # m: the cylinder's (required by it)
+    length: typing.Optional[float] = None  # m: the roller's, along Y (required by it)
+    edge_radius: float = 0.0               # m: the rounding of the cylinder's contact edge; 0:
+                                           # sharp
+    hemisphere: bool = False               # ball: its lower half only, pole down, loaded on
+                                           # its flat equator face
+    mass: float = 0.5                      # kg, the body's mass
+    size: tuple = (0.03, 0.04, 0.053)      # m: the block's X (sliding), Y, Z (height)
+    E: float = 209e9                       # Pa, the body's Young's modulus
+    nu: float = 0.3                        # the body's Poisson's ratio
     density: typing.Optional[float] = None  # kg/m^3; default mass / volume
     gravity: float = 9.81                  # m/s^2, acting in -Z
+
+
+# The [body] keys each shape takes (required, optional) beside mass, E, nu, density and
+# gravity: a key set for another shape is refused, never ignored (validation.py).
+SHAPE_KEYS = {"block": (("size",), ()), "cylinder": (("radius", "height"), ("edge_radius",)),
+              "ball": (("radius",), ("hemisphere",)), "roller": (("radius", "length"), ())}
 
 
 @dataclass(frozen=True)
@@ -53,7 +74,9 @@ class Contact:
     eta_y: float = 0.71                    # transverse vibration transfer coefficient (eq 30)
     k_n: typing.Optional[float] = None     # the lumped body's normal contact stiffness; default:
                                            # it bounces at the FE block's first bounce frequency on
-                                           # its penalty contact fem.penalty (core/bounce.py)
+                                           # its penalty contact fem.penalty (core/bounce.py);
+                                           # a body other than the block sets it to move the
+                                           # base along Z
     parameters: dict = field(default_factory=dict)  # [contact]'s law parameters
     tables: dict = field(default_factory=dict)      # {law_key: {parameter: value}}
 
@@ -182,6 +205,7 @@ SECTIONS = {"body": Body, "contact": Contact, "drive": Drive,
             "vibration": Vibration, "time": Time, "fem": Fem}
 
 CHOICES = {
+    "body.shape": tuple(SHAPE_KEYS),
     "drive.attach": ("contact-plane", "front-face"),
     "drive.mode": ("spring", "velocity"),
     "fem.integrator": ("explicit", "implicit", "reduced", "auto"),

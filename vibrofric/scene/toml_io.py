@@ -1,6 +1,6 @@
 """Scene files: a TOML file read (with ``section.key=value`` overrides) into a Scene, and a
-Scene written back as TOML. A law file is named relative to the scene file that
-names it, or to the current directory on the command line."""
+Scene written back as TOML. A law file and a body's mesh file are named relative to the
+scene file that names them, or to the current directory on the command line."""
 
 import tomllib
 from pathlib import Path
@@ -17,6 +17,14 @@ from .schema import Scene, to_dict
 def _law_path(value, base: Path):
     """A law file named relative to ``base`` as an absolute path; other values as they are."""
     if is_law_file(value):
+        path = Path(value).expanduser()
+        return str(path if path.is_absolute() else (base / path).resolve())
+    return value
+
+
+def _mesh_path(value, base: Path):
+    """body.mesh named relative to ``base`` as an absolute path."""
+    if isinstance(value, str):
         path = Path(value).expanduser()
         return str(path if path.is_absolute() else (base / path).resolve())
     return value
@@ -51,10 +59,16 @@ def load(path, overrides=()) -> Scene:
             raise SceneError(section, f"expected a table [{section}] of keys, got {values!r}")
     if "law" in raw.get("contact", {}):  # a law file is named relative to the scene file
         raw["contact"]["law"] = _law_path(raw["contact"]["law"], path.resolve().parent)
+    if "mesh" in raw.get("body", {}):   # and so is the body's mesh file
+        raw["body"]["mesh"] = _mesh_path(raw["body"]["mesh"], path.resolve().parent)
     for text in overrides:
         key, value = parse_assignment(text)
         # ... and on the command line, relative to the current directory
-        assign(raw, key, _law_path(value, Path.cwd()) if key == "contact.law" else value)
+        if key == "contact.law":
+            value = _law_path(value, Path.cwd())
+        elif key == "body.mesh":
+            value = _mesh_path(value, Path.cwd())
+        assign(raw, key, value)
     return from_dict(raw, path.stem)
 
 

@@ -2,13 +2,17 @@
 invalid or unrunnable one raises SceneError naming its key."""
 
 import math
+from pathlib import Path
 
+from ..core.errors import BadBody
 from ..friction_law import LawError
-from ..meshes import level_counts
+from ..meshes import MESH_SUFFIXES, level_counts
+from ..meshes import checks as mesh_checks
+from ..meshes import refinement, shapes
 from ..sense import nonsense
 from ..core.series import shortest_stepped_T
 from .errors import SceneError, law_refused
-from .schema import CHOICES, Scene, to_dict
+from .schema import CHOICES, SHAPE_KEYS, Body, Scene, to_dict
 
 
 # The base's velocity amplitude v_a = k_v v_d is refused beyond this fraction of the
@@ -21,12 +25,71 @@ from .schema import CHOICES, Scene, to_dict
 BASE_SPEED_BOUND = 0.1
 
 
-def body_density(scene) -> float:
-    """The body's density: body.density, or its mass over its volume."""
-    if scene.body.density is not None:
-        return scene.body.density
-    a, b, c = scene.body.size
-    return scene.body.mass / (a * b * c)
+def body_density(scene):
+    """The body's density: body.density, or its mass over its volume (the block's, a shape's
+    in closed form); None for a user's mesh without body.density (its volume is known once
+    the mesh is read: meshes.body_mesh checks it then)."""
+    body = scene.body
+    if body.density is not None:
+        return body.density
+    if body.mesh is not None:
+        return None
+    if body.shape != "block":
+        return body.mass / shapes.volume(body)
+    a, b, c = body.size
+    return body.mass / (a * b * c)
+
+
+# the shape-specific keys of [body], and the value each has when not set
+_SHAPE_DEFAULTS = {name: getattr(Body(), name) for name in
+                   ("size", "radius", "height", "length", "edge_radius", "hemisphere")}
+
+
+def _check_body(scene) -> None:
+    """The body's shape or mesh file and the keys that describe it: each shape's required
+    keys set and > 0, no key of another shape set (never silently ignored), a mesh file of a
+    known kind that exists, and a shape whose mass over its volume is a real solid's
+    density (meshes/checks.py: a ball of radius 10 m and 0.5 kg was drawn in mm)."""
+    body = scene.body
+    if body.mesh is not None:
+        if body.shape != "block":
+            raise SceneError("body.shape", f"{body.shape!r} and body.mesh {body.mesh!r} both name "
+                                           "the body: give one")
+        kind, needed, optional = "body.mesh", (), ()
+        if Path(body.mesh).suffix.lower() not in MESH_SUFFIXES:
+            raise SceneError("body.mesh", f"{body.mesh!r} is not a mesh or geometry file gmsh is "
+                                          f"asked to read here (use {', '.join(MESH_SUFFIXES)})")
+        if not Path(body.mesh).expanduser().is_file():
+            raise SceneError("body.mesh", f"{body.mesh}: no such file")
+    else:
+        kind = f'body.shape "{body.shape}"'
+        needed, optional = SHAPE_KEYS[body.shape]
+    for name, unset in _SHAPE_DEFAULTS.items():
+        value = getattr(body, name)
+        if name in needed:
+            if value is None:
+                raise SceneError(f"body.{name}", f"{kind} needs it (m)")
+            if name != "size" and not value > 0:
+                raise SceneError(f"body.{name}", f"must be > 0, got {value}")
+        elif name not in optional and value != unset:
+            uses = [s for s, keys in SHAPE_KEYS.items() if name in keys[0] + keys[1]]
+            raise SceneError(f"body.{name}", f"{kind} takes no {name} (it is the key of "
+                                             f"{', '.join(uses)}): remove it")
+    if body.shape == "cylinder" and not 0.0 <= body.edge_radius < min(body.radius, body.height):
+        raise SceneError("body.edge_radius", f"must lie in [0, {min(body.radius, body.height):g}) "
+                                             f"(below the radius and the height), got {body.edge_radius}")
+    if body.mesh is not None or body.shape != "block":
+        try:
+            refinement.check_level(scene.fem.mesh)
+        except ValueError as err:
+            raise SceneError("fem.mesh", str(err)) from None
+    if body.mesh is None and body.shape != "block" and body.density is None:
+        volume = shapes.volume(body)
+        try:
+            mesh_checks.check_density(body.mass, volume, kind,
+                                      mesh_checks.density_key(body.mass, volume, "body.radius"))
+        except BadBody as err:
+            raise SceneError(err.key, str(err)) from None
 
 
 def _positive(scene, key, allow_zero=False):
@@ -46,6 +109,7 @@ def validate(scene: Scene) -> None:
     for key in ("body.gravity", "vibration.normal_amplitude",
                 "vibration.k_v", "vibration.t_on", "fem.damping", "fem.output_every"):
         _positive(scene, key, allow_zero=True)
+    _check_body(scene)
     if any(v <= 0 for v in scene.body.size):
         raise SceneError("body.size", f"every edge must be > 0, got {list(scene.body.size)}")
     if scene.body.density is not None and scene.body.density <= 0:
@@ -56,6 +120,11 @@ def validate(scene: Scene) -> None:
         raise SceneError("contact.eta_y", f"must lie in [0, 1], got {scene.contact.eta_y}")
     if scene.contact.k_n is not None and scene.contact.k_n <= 0:
         raise SceneError("contact.k_n", f"must be > 0, got {scene.contact.k_n}")
+    if (scene.vibration.normal_amplitude > 0.0 and scene.contact.k_n is None
+            and (scene.body.mesh is not None or scene.body.shape != "block")):
+        raise SceneError("contact.k_n", "needed for a base moving along Z under a body other "
+                                        "than the block: its default is matched to the FE "
+                                        "block's bounce (core/bounce.py)")
     if scene.vibration.normal_phase_deg is not None and scene.vibration.normal_amplitude == 0.0:
         raise SceneError("vibration.normal_phase_deg",
                          f"{scene.vibration.normal_phase_deg:g} deg is the phase of a normal motion "
@@ -107,7 +176,8 @@ def validate(scene: Scene) -> None:
         key = "contact.mu" if "mu" in law.parameters else "contact.law"
         raise SceneError(key, f"{scene.get(key) if key == 'contact.mu' else scene.contact.law} "
                               "gives no friction (F_d0 = 0): F_dv/F_d0 is undefined")
-    body_sound_speed = math.sqrt(scene.body.E / body_density(scene))
+    density = body_density(scene)
+    body_sound_speed = math.sqrt(scene.body.E / density) if density is not None else math.inf
     if scene.v_a > BASE_SPEED_BOUND * body_sound_speed:
         raise SceneError("vibration.k_v",
                          f"{scene.vibration.k_v:g} makes the base's velocity amplitude k_v v_d = "
@@ -128,7 +198,12 @@ def validate(scene: Scene) -> None:
 
 def check_fe_scene(scene) -> None:
     """Refuse, before any work, a scene the FE model cannot run yet: a base moving
-    along Z (the lumped model's alone: analytic/normal.py)."""
+    along Z (the lumped model's alone: analytic/normal.py), a body other than the block
+    (meshes.body_mesh meshes it; the FE model's matrices are the block's)."""
+    if scene.body.mesh is not None or scene.body.shape != "block":
+        key = "body.mesh" if scene.body.mesh is not None else "body.shape"
+        raise SceneError(key, f"{scene.get(key)}: the FE model runs the block alone yet "
+                              "(vibrofric analytic takes any body: its mass)")
     if scene.vibration.normal_amplitude > 0.0:
         raise SceneError("vibration.normal_amplitude",
                          f"{scene.vibration.normal_amplitude:g} m: the FE model does not move the "
