@@ -19,6 +19,7 @@ from .integrators import periodic, registry
 from .integrators.cycle_map import FECycleMap
 from .model.fe_model import build_model, cached_levels
 from .model.linalg import one_blas_thread
+from .outputs.contact_patch import patch, patch_range
 from .outputs.normal_swing import judge, node_swing
 from .outputs.paraview import FrameWriter, node_fields
 from .outputs.recording import COLUMNS, extra_columns
@@ -169,7 +170,8 @@ def _run(scene, model, vtk_dir, progress, start, drive_force, start_time) -> FER
                   scene.vibration.f, scene.contact.F_N, model.beta)
     stats = {**run.stats, "F_n_node_swing": node_swing(run.node_normals)}
     clock = Clock(setup_time, run.stats["loop_time_s"], time.perf_counter() - start_time)
-    info = run_info(scene, model, integrator, stats, swing, writer, clock)
+    info = {**run_info(scene, model, integrator, stats, swing, writer, clock),
+            **patch(model.contact_area, run.state.normal)}
     if orbit is not None:
         info["periodic"] = periodic_block(orbit, scene)
     return FEResult(series=series, info=info, fields=last_fields(model, run.state), orbit=orbit)
@@ -335,7 +337,9 @@ def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, sta
     swing = judge(series.extra["F_n"][-averaging_steps(shot_scene):], shot_scene.time.dt,
                   scene.vibration.f, scene.contact.F_N, model.beta)
     clock = Clock(setup_time, orbit.solver_time_s, time.perf_counter() - start_time)
-    info = run_info(shot_scene, model, integrator, stats, swing, writer, clock)
+    info = {**run_info(shot_scene, model, integrator, stats, swing, writer, clock),
+            **patch(model.contact_area, last.normal),
+            **patch_range(model.contact_area, node_normals)}
     info["periodic"] = periodic_block(orbit, scene)
     return FEResult(series=series, info=info, fields=last_fields(model, last), orbit=orbit)
 
@@ -403,7 +407,7 @@ def model_info(scene, model, integrator) -> dict:
         "integrator_choice": integrator.choice,
         "nodes": disc.nodes,
         "dofs": disc.dofs,
-        "elements": int(math.prod(level_counts(scene.fem.mesh))),
+        "elements": int(disc.cells.shape[0]),
         "contact_nodes": int(model.contact_nodes.size),
         "attach": scene.drive.attach,
         "attach_nodes": int(model.attach_nodes.size),
