@@ -128,17 +128,22 @@ def default_contact_stiffness(E: float, nu: float, height: float, F_N: float,
 
 
 def curvature_radius(xy: np.ndarray, initial_gap: np.ndarray) -> float:
-    """R of the paraboloid g0 = r^2 / (2 R) closest (least squares) to the candidates'
-    initial gaps ``initial_gap`` (n,) at plan positions ``xy`` (n, 2), r measured from
-    the centre of those touching at rest (g0 = 0); inf where all touch (a flat face).
-    A sphere's cap gives its radius (a little less, from the r^4 / 8 R^3 the parabola
-    lacks); a cylinder on its side, whose gap grows across it only, about twice its."""
+    """R of the sphere r^2 + g0^2 = 2 R g0 closest (least squares, weighted by g0) to the
+    candidates' initial gaps ``initial_gap`` (n,) at plan positions ``xy`` (n, 2), r
+    measured from the centre of those touching at rest (g0 = 0):
+
+        R = sum g0 (r^2 + g0^2) / (2 sum g0^2)
+
+    inf where all touch (a flat face). A sphere's cap gives its radius exactly; a
+    paraboloid g0 = r^2 / 2 R a little more (by g0 / 2); a cylinder on its side, whose
+    gap grows across it only, more (its axial offsets count as r): an estimate of the
+    patch's scale, which is all default_contact_stiffness needs of it."""
     touching = initial_gap <= 0.0
     if touching.all():
         return math.inf
     r2 = ((xy - xy[touching].mean(axis=0)) ** 2).sum(axis=1)
-    curvature = float(np.dot(initial_gap, r2) / np.dot(r2, r2) * 2.0)   # 1 / R
-    return 1.0 / curvature if curvature > 0.0 else math.inf
+    g = initial_gap
+    return float(np.dot(g, r2 + g * g) / (2.0 * np.dot(g, g)))
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)

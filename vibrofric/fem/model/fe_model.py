@@ -49,7 +49,7 @@ from .assembly import Discretization
 from .contact import curvature_radius, default_contact_stiffness, nominal_normal
 from .drive import ATTACH_GROUPS, attachment, drive_stiffness_action
 from .loads import normal_load, load_pressure
-from .linalg import dof_points, nested_dissection
+from .linalg import dof_points, nested_dissection, on_grid
 from .preload import static_preload
 
 
@@ -80,7 +80,8 @@ class FEModel:
                                # LENGTH_DIGITS significant digits
     friction_coefficient: float  # the law's sliding coefficient mu (friction_law Bounds): the
                                  # frames' stick / slip (outputs/contact_patch.py)
-    elimination_order: np.ndarray  # (dofs,) for the sparse LUs: nested dissection (linalg)
+    elimination_order: np.ndarray | None  # (dofs,) for the sparse LUs: nested dissection
+                                          # on a grid (linalg), else None: minimum degree
     omega_max: float           # rad/s
     beta: float                # s, Rayleigh stiffness-proportional damping
     dt_stable: float           # s
@@ -125,9 +126,10 @@ def density(scene, body: meshes.BodyMesh) -> float:
 def check_tipping(scene, disc: Discretization, contact_nodes, contact_area) -> None:
     """Refuse a front-face drive strong enough to tip the body over its front edge.
 
-    About the contact's front edge (its largest x), the drive (up to the sliding
-    force max(mu, mu_s) F_N, acting at the front group's mean height h) turns the body
-    against the normal load F_N acting at the contact's centre x_c (area-weighted): it
+    About the front edge of the preload's contact patch (its largest x), the drive
+    (up to the sliding force max(mu, mu_s) F_N, acting at the front group's mean height
+    h) turns the body against the normal load F_N acting at the patch's centre x_c
+    (area-weighted; ``contact_nodes`` and ``contact_area`` are the patch's): it
     tips, and the back of the contact lifts off the base, once max(mu, mu_s) h >=
     x_edge - x_c. The block: h = L_z / 2, x_edge - x_c = L_x / 2, so once
     max(mu, mu_s) L_z >= L_x. The other attachments act at the contact (no moment) or
@@ -266,7 +268,6 @@ def _built(scene, comm) -> FEModel:
     contact_nodes = np.flatnonzero(area > 0.0).astype(np.int64)
     contact_area = area[contact_nodes]
     area_share = contact_area / contact_area.sum()
-    check_tipping(scene, disc, contact_nodes, contact_area)
 
     block_mass = rho * disc.volume
     load_area = disc.face_area.get("load")
@@ -280,11 +281,13 @@ def _built(scene, comm) -> FEModel:
                                             radius)
 
     attach_nodes, attach_weights = attachment(scene, disc.face_area, body_mesh.description)
-    elimination_order = nested_dissection(dof_points(disc.coordinates))
+    elimination_order = (nested_dissection(dof_points(disc.coordinates))
+                         if on_grid(disc.coordinates) else None)
 
     u0, normal0, in_contact0 = static_preload(
         disc.stiffness, load, contact_nodes, penalty_share, area_share,
         scene.law_bounds.stiffness, scene.contact.F_N, elimination_order, gap0)
+    check_tipping(scene, disc, contact_nodes[in_contact0], contact_area[in_contact0])
 
     omega_max = stability.max_frequency(
         disc.stiffness, disc.mass, contact_nodes, penalty_share, scene.law_bounds.max_stiffness * area_share,
