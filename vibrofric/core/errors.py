@@ -31,6 +31,11 @@ class DriveHasNoAttachment(Refusal):
     """The drive's attachment names a facet group the body's mesh lacks."""
 
 
+class PatchUnresolved(Refusal):
+    """The static preload's contact patch does not settle: the mesh is too coarse where
+    the body touches the base."""
+
+
 class NoEnergyBalance(Refusal):
     """An energy balance asked of an integrator that keeps none."""
 

@@ -29,6 +29,7 @@ REFUSAL_KEYS = {
     errors.NormalLoadTooSmall: "contact.F_N",
     errors.DriveTipsBlock: "drive.attach",
     errors.DriveHasNoAttachment: "drive.attach",
+    errors.PatchUnresolved: "fem.mesh",
     errors.NoEnergyBalance: "fem.energy",
     errors.ReductionFailed: "fem.cutoff",
     errors.WindowDoesNotFit: "time.average_cycles",

@@ -15,6 +15,11 @@ a primal-dual active set iteration (Hintermueller, Ito and Kunisch, SIAM J. Opti
 repeats): start from the nodes touching at rest (g0 <= 0); after each solve drop
 the nodes of C that would pull (g_i > 0) and add those outside it that penetrate
 (g_i < 0), until neither is left. On the block every node starts in C and stays.
+A patch of one or a few nodes, where the mesh is coarse against the contact's true
+size (a ball's Hertz radius), holds the body's rocking about it only by the weak
+springs below: the body rocks from one side of it to the other and the set cycles;
+the preload then stops at the first patch that comes back (PatchUnresolved: refine
+the mesh there).
 
 The contact is frictionless during the preload (the asperities start undeformed,
 as the lumped model's), so the only loads are in Z. The in-plane rigid motions
@@ -33,7 +38,7 @@ precision.
 import numpy as np
 import scipy.sparse as sp
 
-from ...core.errors import NormalLoadTooSmall
+from ...core.errors import NormalLoadTooSmall, PatchUnresolved
 from .linalg import symmetric_lu
 
 REGULARIZATION = 1e-9
@@ -48,15 +53,17 @@ def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, 
     ``order``: the DOFs' elimination order for the factorization (linalg.symmetric_lu);
     ``initial_gap``: (n,) the candidates' gaps at rest, m (None: all 0, a flat face).
 
-    Raises NormalLoadTooSmall if no node stays in contact, RuntimeError if the patch
-    does not settle or the reaction does not balance F_N.
+    Raises NormalLoadTooSmall if no node stays in contact, PatchUnresolved if the patch
+    comes back to an earlier one (the iteration would cycle), RuntimeError if the
+    reaction does not balance F_N.
     """
     dofs = stiffness.shape[0]
     gap0 = np.zeros(nodes.size) if initial_gap is None else np.asarray(initial_gap, dtype=float)
     z = 3 * nodes + 2
     active = gap0 <= 0.0
-    # each pass changes the patch; a patch that came back would cycle: bounded
-    for _ in range(nodes.size + 1):
+    seen = set()
+    while True:
+        seen.add(active.tobytes())
         springs = np.zeros(dofs)
         springs[z[active]] = penalty_share[active]
         springs[3 * nodes] = springs[3 * nodes + 1] = REGULARIZATION * k_t * area_share
@@ -71,9 +78,11 @@ def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, 
         active = (active & ~lifted) | touching
         if not active.any():
             raise NormalLoadTooSmall("no contact node stays on the base under the preload")
-    else:
-        raise RuntimeError(f"the preload's contact patch did not settle in {nodes.size + 1} "
-                           "active-set iterations")
+        if active.tobytes() in seen:
+            raise PatchUnresolved(
+                f"the preload's contact patch does not settle (it came back to one of {len(seen)} "
+                f"earlier patches, of {int(active.sum())} nodes): a patch of a few nodes does not "
+                "hold the body's rocking; refine the mesh where it touches the base")
     normal = np.where(active, penalty_share * np.maximum(-gap, 0.0), 0.0)
     if not np.isclose(normal.sum(), F_N, rtol=RELATIVE_TOLERANCE, atol=0.0):
         raise RuntimeError(f"the static normal reaction {normal.sum():.12g} N does not balance "
