@@ -11,10 +11,15 @@ C the contact patch (the active set), g0 the candidates' initial gaps (their hei
 at rest, 0 on the block's face): node i in C is pushed up by N_i = -k_pen,i g_i with
 g_i = g0_i + u_z,i its gap, every other node carries nothing. The patch is found by
 a primal-dual active set iteration (Hintermueller, Ito and Kunisch, SIAM J. Optim.
-13 (2003) 865, a semi-smooth Newton method: on a linear body it ends when the set
-repeats): start from the nodes touching at rest (g0 <= 0); after each solve drop
-the nodes of C that would pull (g_i > 0) and add those outside it that penetrate
-(g_i < 0), until neither is left. On the block every node starts in C and stays.
+13 (2003) 865, a semi-smooth Newton method): start from every candidate in C; after
+each solve drop the nodes of C that would pull (g_i > 0) and add those outside it
+that penetrate (g_i < 0), until neither is left. On the block every node starts in
+C and stays. On a curved body the first solve pulls every candidate down onto the
+base, a patch that holds the body as the block's face does; the patch then shrinks
+to the nodes in compression, symmetric as the body and its load are. Started from
+the nodes touching at rest (a ball's pole alone), the first solve has nothing but
+the weak springs below against the body's rocking (a rotation of radians from the
+mesh's asymmetry), and the patches that follow swing from side to side.
 A patch of one or a few nodes, where the mesh is coarse against the contact's true
 size (a ball's Hertz radius), holds the body's rocking about it only by the weak
 springs below: the body rocks from one side of it to the other and the set cycles;
@@ -60,7 +65,7 @@ def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, 
     dofs = stiffness.shape[0]
     gap0 = np.zeros(nodes.size) if initial_gap is None else np.asarray(initial_gap, dtype=float)
     z = 3 * nodes + 2
-    active = gap0 <= 0.0
+    active = np.ones(nodes.size, dtype=bool)
     seen = set()
     while True:
         seen.add(active.tobytes())
