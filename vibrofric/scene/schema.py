@@ -166,7 +166,9 @@ class Fem:
                                            # default: contact_stiffness's
     contact_stiffness: typing.Optional[float] = None  # the penalty per unit contact area, Pa/m;
                                            # default 10 E / H, H the body's height (the block's
-                                           # 10 E A / L_z on its face A; fem/model/contact.py)
+                                           # 10 E A / L_z on its face A), on a curved contact
+                                           # at least 100 E* / a, a Hertz's contact radius
+                                           # (fem/model/contact.py)
     output_every: int = 2000               # steps between ParaView frames; 0: none
     damping: float = 0.0                   # stiffness-proportional damping beta, s; 0: 6% at the top mode
     rho_infinity: float = 0.9              # implicit, reduced: generalized-alpha's spectral radius at
