@@ -159,3 +159,28 @@ def test_a_frame_of_tetrahedra_reads_back(tmp_path):
     assert set(np.asarray(grid.celltypes).tolist()) == {paraview.VTK_TETRAHEDRON}
     assert grid.cells.reshape(-1, 5)[:, 1:].tolist() == cells.tolist()
     assert np.array_equal(grid.point_data["gap"], np.arange(5.0))
+
+
+def test_a_patch_that_comes_back_is_refused_not_looped(monkeypatch):
+    """Two candidates whose solves alternate (each closes where the other opens): the
+    preload stops at the first patch that comes back, naming the mesh."""
+    from vibrofric.fem.model import preload
+    from vibrofric.core.errors import PatchUnresolved
+    from vibrofric.scene.errors import refused
+
+    # the Z displacements of nodes 0 and 1, solve after solve: (-1, +1) opens node 1
+    # and closes 0 ... then (+1, -1) the other way round, and back
+    solves = iter([(-1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, -1.0)])
+
+    class Alternating:
+        def solve(self, force):
+            u = np.zeros(6)
+            u[2], u[5] = next(solves)
+            return u
+
+    monkeypatch.setattr(preload, "symmetric_lu", lambda matrix, order=None: Alternating())
+    nodes = np.array([0, 1])
+    with pytest.raises(PatchUnresolved, match="refine the mesh") as raised:
+        preload.static_preload(np.eye(6), np.zeros(6), nodes, np.ones(2), np.full(2, 0.5),
+                               1.0, 1.0, None, np.zeros(2))
+    assert refused(raised.value).key == "fem.mesh"

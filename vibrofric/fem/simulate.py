@@ -35,7 +35,9 @@ class FEResult:
             with fem.energy also extra[recording.ENERGY]; the rows the analytic
             stepper keeps up to the step the run ended at (early steady
             state: outputs/steady.py), so summarize() applies as is
-    info    what the run was and cost (run_info)
+    info    what the run was and cost (run_info), and its contact patch at the end
+            (outputs/contact_patch.patch: nodes_in_contact, contact_area,
+            peak_pressure; a steady cycle's answer adds their *_range over the cycle)
     fields  the node fields at the last step, as in the ParaView frames
             (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3),
             "contact_nodes" (indices) and "t" (the step's time, s)
