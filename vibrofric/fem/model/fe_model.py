@@ -1,17 +1,23 @@
-"""The FE model of a scene as plain arrays: block, loads, contact, drive, preload, step.
+"""The FE model of a scene as plain arrays: body, loads, contact, drive, preload, step.
 
 ``build_model(scene, comm)`` does everything that happens once per run:
 
-1. the elastic block (assembly.py): K, lumped mass M, face areas, with
-   rho = body.density or body.mass / volume (0.5 kg -> 7850 kg/m^3 and
-   2 kg -> 31400 kg/m^3 on the paper's block), read from the model cache
-   after the first run on the same block (model_cache.py);
-2. the normal load (loads.py): gravity + top pressure, total F_N;
-3. the contact (contact.py): the contact-face nodes, their area shares
-   w_i = a_i / A and penalty springs k_pen w_i, and the normal force each
-   node's law sees under fem.normal_force (contact.nominal_normal);
-4. the drive's attachment nodes and weights (drive.py);
-5. the static preload u0 (preload.py);
+1. the elastic body (assembly.py) on its placed mesh, a meshes.BodyMesh (body_of:
+   the paper's block, meshes.block_body, unless meshes offers body_mesh): K, lumped
+   mass M, the facet groups' areas, with rho = body.density or body.mass / the
+   mesh's volume (0.5 kg -> 7850 kg/m^3 and 2 kg -> 31400 kg/m^3 on the paper's
+   block), read from the model cache after the first run on the same mesh
+   (model_cache.py);
+2. the normal load (loads.py): gravity + a uniform pressure on the group "load" (the
+   block's top), total F_N; without that group gravity alone, which must be F_N;
+3. the contact (contact.py): the nodes of the group "contact" (the candidates),
+   their tributary areas a_i, shares w_i = a_i / A and initial gaps g0_i (their
+   heights at rest), their penalty springs k_pen,i = k_c a_i (penalty_shares: k_c
+   per unit area), and the normal force each node's law sees under
+   fem.normal_force (contact.nominal_normal);
+4. the drive's attachment nodes and weights (drive.py), a front-face drive that
+   would tip the body refused (check_tipping);
+5. the static preload u0 and its contact patch (preload.py);
 6. the highest frequency, the damping and the stable step (stability.py).
 
 Damping (fem.damping = beta, seconds; C = beta (K + K_pen), stability.py).
@@ -42,7 +48,7 @@ import numpy as np
 
 from ... import meshes
 from ...core.bounce import default_penalty as block_penalty
-from ...core.errors import DriveTipsBlock, NormalLoadTooSmall, StepTooLong
+from ...core.errors import DriveTipsBlock, StepTooLong
 from . import stability
 from . import model_cache
 from .assembly import Discretization
