@@ -13,10 +13,11 @@ from pathlib import Path
 from vibrofric import meshes
 
 
-def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=None):
-    """A BodyMesh of the hemisphere written to ``directory``/hemisphere-....msh."""
+def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=None, order=1):
+    """A BodyMesh of the hemisphere written to ``directory``/hemisphere-....msh (its cells
+    of gmsh's ``order``: 2 for the refusal of second-order cells)."""
     size = radius / 4 if size is None else size
-    name = f"hemisphere-{radius:g}-{pole_size:g}-{fine_radius:g}-{size:g}"
+    name = f"hemisphere-{radius:g}-{pole_size:g}-{fine_radius:g}-{size:g}-{order}"
     path = Path(directory) / f"{name}.msh"
     with meshes.gmsh_model("hemisphere") as gmsh:
         occ = gmsh.model.occ
@@ -49,6 +50,7 @@ def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=No
         for option in ("MeshSizeFromPoints", "MeshSizeFromCurvature", "MeshSizeExtendFromBoundary"):
             gmsh.option.setNumber(f"Mesh.{option}", 0)
         gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.setOrder(order)
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         gmsh.write(str(path))
     assert pole, "the sphere's pole is no vertex of its OpenCASCADE surface"

@@ -25,6 +25,16 @@ RADIUS, LOAD = 0.01, 100.0
 POLE, FINE = 6e-5, 4e-4
 
 
+@pytest.fixture(scope="module", autouse=True)
+def _own_model_cache(tmp_path_factory):
+    """The balls' models in a cache of this module's: they would take the place of a
+    user's blocks in the shared one (model_cache.KEPT_ENTRIES)."""
+    patch = pytest.MonkeyPatch()
+    patch.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
+    yield
+    patch.undo()
+
+
 def ball_scene(**values):
     base = {"contact.F_N": LOAD, "body.gravity": 0.0, "body.density": 7850.0}
     return scenes.load("scenes/longitudinal.toml").with_values({**base, **values})
@@ -186,3 +196,13 @@ def test_a_patch_that_comes_back_is_refused_not_looped(monkeypatch):
         preload.static_preload(np.eye(6), np.zeros(6), nodes, np.ones(2), np.full(2, 0.5),
                                1.0, 1.0, None, np.zeros(2))
     assert refused(raised.value).key == "fem.mesh"
+
+
+def test_a_second_order_mesh_is_refused_by_name(tmp_path):
+    from mpi4py import MPI
+
+    from vibrofric.fem.model import dolfinx_adapter
+
+    body = hemisphere(tmp_path, RADIUS, 2e-3, 4e-3, 5e-3, order=2)
+    with pytest.raises(ValueError, match="its cells are Tetrahedron 10; only first-order"):
+        dolfinx_adapter.load_body(MPI.COMM_SELF, body)

@@ -105,7 +105,18 @@ def load_body(comm, body, rank: int = 0):
         return _model_to_mesh(None, comm, rank)
     with meshes.gmsh_model("vibrofric-load") as gmsh:
         gmsh.merge(str(body.path))
+        kinds = {int(kind) for kind in gmsh.model.mesh.getElementTypes(3)}
+        if not kinds <= set(FIRST_ORDER_GMSH):
+            names = [gmsh.model.mesh.getElementProperties(kind)[0] for kind in sorted(kinds)]
+            raise ValueError(f"{body.description or body.path}: its cells are {', '.join(names)}; "
+                             "only first-order tetrahedra or hexahedra are accepted (a row-sum "
+                             "lumped mass of second-order tetrahedra has zero or negative corner "
+                             "masses, which the explicit step cannot take)")
         return _model_to_mesh(gmsh.model, comm, rank)
+
+
+# gmsh's element types of the accepted cells: 4-node tetrahedron, 8-node hexahedron
+FIRST_ORDER_GMSH = (4, 5)
 
 
 def vector_space(mesh):
