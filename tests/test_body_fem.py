@@ -116,7 +116,7 @@ def test_a_body_without_what_the_scene_asks_is_refused(ball):
     no_load = fe_model.meshes.BodyMesh(path=body.path, facet_groups={"contact": 1},
                                        cell_group=1, volume=body.volume, key=body.key + " bare",
                                        description="a bare ball")
-    with pytest.raises(NormalLoadTooSmall, match="^a bare ball has no \"load\" facet group"):
+    with pytest.raises(NormalLoadTooSmall, match=r"^the body's mesh \(a bare ball\) has no \"load\" facet group"):
         ball_model(no_load, ball_scene())
     # its weight alone presses it: accepted. At 1000 g (9810 m/s^2), so that the patch
     # spans nodes of this mesh: under its own 0.16 N the ball's patch (17 um) is below

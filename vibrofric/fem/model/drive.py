@@ -60,13 +60,13 @@ def prescribed_position(t, v_d):
     return v_d * (t - 0.5 * START_TIME)
 
 
-def attachment(scene, face_area: dict, body: str = "the body"):
+def attachment(scene, face_area: dict, body: str = ""):
     """(nodes, weights) of the drive's attachment: its group's nodes by area share.
     Refuses (DriveHasNoAttachment) a body whose mesh lacks the group (``body`` names it)."""
     group = ATTACH_GROUPS[scene.drive.attach]
     if group not in face_area:
-        raise DriveHasNoAttachment(f"{body} has no facet group {group!r} for drive.attach = "
-                                   f"{scene.drive.attach!r}; use \"contact-plane\"")
+        raise DriveHasNoAttachment(f"the body's mesh ({body}) has no facet group {group!r} for "
+                                   f"drive.attach = {scene.drive.attach!r}; use \"contact-plane\"")
     area = face_area[group]
     nodes = np.flatnonzero(area > 0.0).astype(np.int64)
     return nodes, area[nodes] / area[nodes].sum()

@@ -24,7 +24,7 @@ from ...core.errors import NormalLoadTooSmall
 WEIGHT_TOLERANCE = 1e-9
 
 
-def load_pressure(scene, body_mass: float, load_area, body: str = "the body") -> float:
+def load_pressure(scene, body_mass: float, load_area, body: str = "") -> float:
     """The uniform pressure p (Pa) on the load group that brings the normal reaction to
     F_N; ``load_area`` (nodes,) its nodes' tributary areas, None for a body without one
     (p = 0, and F_N must be its weight). Refuses (NormalLoadTooSmall) a load that
@@ -35,9 +35,9 @@ def load_pressure(scene, body_mass: float, load_area, body: str = "the body") ->
     if load_area is None:
         if not np.isclose(scene.contact.F_N, weight, rtol=WEIGHT_TOLERANCE, atol=0.0):
             raise NormalLoadTooSmall(
-                f"{body} has no \"load\" facet group, so only its weight {weight:.6g} N presses "
-                f"it on the base, not F_N = {scene.contact.F_N} N: add a \"load\" group to its "
-                "mesh, or set contact.F_N to the weight")
+                f"the body's mesh ({body}) has no \"load\" facet group, so only its weight "
+                f"{weight:.6g} N presses it on the base, not F_N = {scene.contact.F_N} N: add a "
+                "\"load\" group to its mesh, or set contact.F_N to the weight")
         return 0.0
     return top_pressure(scene, body_mass, load_area.sum())
 
