@@ -206,3 +206,25 @@ def test_a_second_order_mesh_is_refused_by_name(tmp_path):
     body = hemisphere(tmp_path, RADIUS, 2e-3, 4e-3, 5e-3, order=2)
     with pytest.raises(ValueError, match="its cells are Tetrahedron 10; only first-order"):
         dolfinx_adapter.load_body(MPI.COMM_SELF, body)
+
+
+def test_the_frames_show_the_ball_s_patch(ball):
+    """The ParaView fields of the preloaded ball: its candidates' gap g0 + u_z (negative
+    on the patch, the penalty's penetration N_i / k_pen,i exactly) and state (closed
+    without friction: stick; else open), 0 off the candidates."""
+    from vibrofric.fem.outputs.recording import State
+
+    _, model = ball
+    n = model.contact_nodes.size
+    state = State(step=0, t=0.0, u=model.u0, v=np.zeros(model.dofs), law_state=np.zeros((n, 1)),
+                  deformation=np.zeros((n, 2)), normal=model.normal0, friction=np.zeros((n, 2)),
+                  x_b=0.0, y_b=0.0)
+    fields = paraview.node_fields(model, state)
+    c, closed = model.contact_nodes, model.in_contact0
+    assert np.allclose(fields["gap"][c][closed], -model.normal0[closed] / model.penalty_share[closed],
+                       rtol=1e-12, atol=0.0)
+    assert np.all(fields["gap"][c][~closed] >= 0.0)
+    assert np.array_equal(fields["contact_state"][c], np.where(closed, contact_patch.STICK,
+                                                               contact_patch.OPEN))
+    off = np.setdiff1d(np.arange(model.disc.nodes), c)
+    assert not fields["gap"][off].any() and not fields["contact_state"][off].any()
