@@ -115,7 +115,7 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
     reduction.forget()
     first_reduction = reduction.reduced(first, scene.fem.cutoff * scene.vibration.f)
     entries = sorted(p.name.split("-")[0] for p in model_cache_dir.glob("*.npz"))
-    assert entries == ["body", "reduction"]
+    assert entries == ["body", "reduction", "source"]
 
     def no_assembly(*args, **kwargs):
         raise AssertionError("assembled again despite the cache")

@@ -263,7 +263,7 @@ NO_MESH_PARTNER = "tiny"
 
 def mesh_error(scene, result: FEResult, comm) -> dict:
     """The mesh's error of F_dv/F_d0, from the block of another refinement level where
-    the model cache holds one (model_cache.cached_levels): the same integrator at the
+    the model cache holds one (fe_model.cached_levels): the same integrator at the
     same step on it, |F - F_other|. Another level is run where time.error_estimate is
     true (the nearest finer one cached, else the nearest coarser), or "auto" and the
     step's error was estimated (the nearest coarser one: cheaper than the answer; its

@@ -222,16 +222,17 @@ MODEL_GROUPS = ("contact", "load", "front", "drive")
 
 def cached_levels(scene) -> list[str]:
     """The refinement levels other than fem.mesh whose body for ``scene`` is cached
-    (model_cache.holds_body): the meshes a mesh error can be had from cheaply."""
-    levels = []
-    for level in meshes.LEVELS:
-        if level == scene.fem.mesh:
-            continue
-        body = body_of(scene, level)
-        if model_cache.holds_body(body, scene.body.E, scene.body.nu, density(scene, body),
-                                  MODEL_GROUPS):
-            levels.append(level)
-    return levels
+    (model_cache.holds_source, asked without meshing): the meshes a mesh error can be
+    had from cheaply."""
+    return [level for level in meshes.LEVELS
+            if level != scene.fem.mesh and model_cache.holds_source(body_source(scene, level))]
+
+
+def body_source(scene, level: str) -> dict:
+    """What the model's arrays of ``scene``'s body at ``level`` are made from, short of
+    the mesh itself (model_cache's source entries): the body section (its shape or mesh,
+    size, material, density, mass) and the level."""
+    return {"body": repr(scene.body), "level": level}
 
 
 def penalty_shares(scene, contact_area: np.ndarray, area_share: np.ndarray,
@@ -266,7 +267,8 @@ def _built(scene, comm) -> FEModel:
     body = scene.body
     body_mesh = body_of(scene)
     rho = density(scene, body_mesh)
-    disc = model_cache.body(comm, body_mesh, body.E, body.nu, rho, MODEL_GROUPS)
+    disc = model_cache.body(comm, body_mesh, body.E, body.nu, rho, MODEL_GROUPS,
+                            body_source(scene, scene.fem.mesh))
     if "contact" not in disc.face_area:
         raise ValueError(f"{body_mesh.description}: the mesh has no \"contact\" facet group")
 

@@ -11,6 +11,9 @@ sweep on one body, would build the same again. This module keeps them in
                           the mesh's content (BodyMesh.key) and its groups' tags, E, nu,
                           density, the groups asked for, the DOLFINx version and the
                           package's
+    source-<key>.npz      the name of the body entry a scene's body at a mesh level was
+                          built into: keyed by what the scene says of its body and the
+                          level (fe_model.cached_levels asks it without meshing)
     reduction-<key>.npz   reduction.Reduction's arrays: keyed by the model's content
                           (reduction.model_key), the cutoff, numpy's, scipy's and
                           the package's versions
@@ -138,18 +141,38 @@ def _unpacked(arrays: dict, description: str) -> Discretization:
                           cell_type=int(arrays["cell_type"]))
 
 
-def body(comm, body_mesh, E, nu, density, groups) -> Discretization:
+def body(comm, body_mesh, E, nu, density, groups, source=None) -> Discretization:
     """assembly.assemble_body's Discretization of ``body_mesh`` (a meshes.BodyMesh), from
     the cache when it holds it (``comm`` None: MPI.COMM_SELF, started only if DOLFINx is
-    needed)."""
+    needed). ``source``: what the mesh was made from (a dict), remembered as leading to
+    this entry (holds_source)."""
     groups = tuple(groups)
+    parts = body_parts(body_mesh, E, nu, density, groups)
 
     def build():
         return _packed(assemble_body(dolfinx_adapter.communicator(comm), body_mesh, E, nu,
                                      density, groups))
 
-    return _unpacked(cached("body", body_parts(body_mesh, E, nu, density, groups), build),
-                     body_mesh.description)
+    disc = _unpacked(cached("body", parts, build), body_mesh.description)
+    if source is not None and enabled():
+        alias = entry_path("source", {**source, "dolfinx": dolfinx_version()})
+        name = entry_path("body", parts).name.encode()
+        if disk_cache.read_entry(alias) != name:
+            disk_cache.write_entry(alias, name)
+            disk_cache.prune(alias.parent, "source-*.npz", SOURCES_KEPT)
+    return disc
+
+
+# Source entries kept (each a few bytes): those of the kept bodies, at every level
+SOURCES_KEPT = 8 * KEPT_ENTRIES
+
+
+def holds_source(source) -> bool:
+    """Whether the cache holds the body entry that ``source`` was last built into."""
+    if not enabled():
+        return False
+    name = disk_cache.read_entry(entry_path("source", {**source, "dolfinx": dolfinx_version()}))
+    return name is not None and (directory() / name.decode()).exists()
 
 
 def body_parts(body_mesh, E, nu, density, groups) -> dict:
@@ -157,9 +180,3 @@ def body_parts(body_mesh, E, nu, density, groups) -> dict:
     return {"mesh": body_mesh.key, "tags": {name: body_mesh.tag(name) for name in groups},
             "E": float(E), "nu": float(nu), "density": float(density), "groups": list(groups),
             "dolfinx": dolfinx_version()}
-
-
-def holds_body(body_mesh, E, nu, density, groups) -> bool:
-    """Whether the cache holds the body's entry of these inputs."""
-    return enabled() and entry_path("body", body_parts(body_mesh, E, nu, density,
-                                                       tuple(groups))).exists()
