@@ -109,9 +109,15 @@ def test_run_fe_and_analytic_json_and_results(tmp_path, capsys, load_scene, writ
                  "--out", str(out), "--json"])
     assert code == 0
     document = json.loads(capsys.readouterr().out)
-    assert SUMMARY_KEYS | {"dofs", "contact_nodes"} <= set(document["fe"])
+    assert SUMMARY_KEYS | {"dofs", "contact_nodes", "contact_area", "peak_pressure",
+                           "nodes_in_contact"} <= set(document["fe"])
     assert SUMMARY_KEYS <= set(document["analytic"])
     assert document["fe"]["dofs"] == 24 and document["fe"]["contact_nodes"] == 4
+    # the one-element block slides on its whole face (30 x 40 mm, to rounding), pressed
+    # at least as hard as F_N spread over it at its most loaded corner
+    assert document["fe"]["nodes_in_contact"] == 4
+    assert document["fe"]["contact_area"] == pytest.approx(0.03 * 0.04, rel=1e-12)
+    assert document["fe"]["peak_pressure"] >= 55.0 / (0.03 * 0.04)
     fe, analytic = document["fe"]["F_dv_over_F_d0"], document["analytic"]["F_dv_over_F_d0"]
     assert document["rel_error"] == pytest.approx(abs(fe - analytic) / analytic, rel=1e-12)
     names = {p.name for p in out.iterdir()}

@@ -69,12 +69,24 @@ def q1_hexahedron(size, corners, E, nu, rho):
     return K, mass
 
 
+def load_block(comm, size, level):
+    """(mesh, facet_tags) of the block (meshes.block_body) through the adapter's load_body."""
+    return adapter.load_body(comm, meshes.block_body(size, level))
+
+
+def hexahedra(V):
+    """The cells of ``V``'s mesh, asserted hexahedra (adapter.cells)."""
+    cells, vtk_type = adapter.cells(V)
+    assert vtk_type == adapter.VTK_HEXAHEDRON and cells.shape[1] == 8
+    return cells
+
+
 @pytest.fixture(scope="module")
 def one_hexahedron(tmp_path_factory):
     mp = pytest.MonkeyPatch()
     mp.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
     try:
-        mesh, facet_tags = adapter.load_block(MPI.COMM_SELF, SIZE, "tiny")
+        mesh, facet_tags = load_block(MPI.COMM_SELF, SIZE, "tiny")
     finally:
         mp.undo()
     V = adapter.vector_space(mesh)
@@ -136,7 +148,7 @@ def test_one_hexahedron_mass_and_face_areas(one_hexahedron):
 def test_load_block_gives_the_tagged_hexahedral_block(level):
     import dolfinx
     comm = MPI.COMM_WORLD if level == "coarse" else MPI.COMM_SELF
-    mesh, facet_tags = adapter.load_block(comm, SIZE, level)
+    mesh, facet_tags = load_block(comm, SIZE, level)
     counts = meshes.level_counts(level)
 
     assert mesh.topology.cell_type == dolfinx.mesh.CellType.hexahedron
@@ -171,7 +183,7 @@ def test_coarse_mesh_eigenfrequencies():
     ~1e-12 relative) and dense symmetric eigenvalues of a 720-DOF problem are
     accurate to ~1e-13 of the largest; 1e-9 is far tighter than any change of
     the discretization (a different quadrature or lumping moves them by %)."""
-    mesh, _ = adapter.load_block(MPI.COMM_SELF, SIZE, "coarse")
+    mesh, _ = load_block(MPI.COMM_SELF, SIZE, "coarse")
     V = adapter.vector_space(mesh)
     K = adapter.stiffness(V, E, NU).toarray()
     scale = 1 / np.sqrt(adapter.lumped_mass(V, RHO))
@@ -192,20 +204,21 @@ def test_frames_from_the_arrays_match_dolfinxs_own(tmp_path, monkeypatch):
 
     from vibrofric.fem.outputs import paraview
 
-    mesh, _ = adapter.load_block(MPI.COMM_SELF, SIZE, "coarse")
+    mesh, _ = load_block(MPI.COMM_SELF, SIZE, "coarse")
     V = adapter.vector_space(mesh)
     coordinates = adapter.node_coordinates(V)
     nodes = coordinates.shape[0]
     rng = np.random.default_rng(27)
-    values = {name: rng.standard_normal(nodes if name == "contact_pressure" else (nodes, 3))
+    values = {name: rng.standard_normal(nodes if name in paraview.SCALAR_FIELDS else (nodes, 3))
               for name in paraview.FIELDS}
 
     # DOLFINx's writer: the vectors on V, the scalar on its collapsed first component
     Q, q_to_v = V.sub(0).collapse()
     functions = []
     for name in paraview.FIELDS:
-        function = dolfinx.fem.Function(Q if name == "contact_pressure" else V, name=name)
-        function.x.array[:] = (values[name][np.asarray(q_to_v) // 3] if name == "contact_pressure"
+        scalar = name in paraview.SCALAR_FIELDS
+        function = dolfinx.fem.Function(Q if scalar else V, name=name)
+        function.x.array[:] = (values[name][np.asarray(q_to_v) // 3] if scalar
                                else values[name].ravel())
         functions.append(function)
     with dolfinx.io.VTKFile(MPI.COMM_SELF, str(tmp_path / "dolfinx" / "block.pvd"), "w") as file:
@@ -215,13 +228,14 @@ def test_frames_from_the_arrays_match_dolfinxs_own(tmp_path, monkeypatch):
 
     # FrameWriter, its fields those above, and cell fields of its own (DOLFINx 0.5's
     # VTKFile writes no cell data to compare with: VTK's reader reads them back)
-    cells = adapter.hexahedra(V)
+    cells = hexahedra(V)
     cell_values = {name: rng.standard_normal((cells.shape[0], 9) if name == "stress"
                                              else cells.shape[0])
                    for name in paraview.CELL_FIELDS}
     monkeypatch.setattr(paraview, "node_fields", lambda model, state: values)
     monkeypatch.setattr(paraview, "cell_fields", lambda model, state: cell_values)
-    model = SimpleNamespace(disc=SimpleNamespace(coordinates=coordinates, cells=cells))
+    model = SimpleNamespace(disc=SimpleNamespace(coordinates=coordinates, cells=cells,
+                                                 cell_type=adapter.VTK_HEXAHEDRON))
     writer = paraview.FrameWriter(model, tmp_path / "meshio")
     writer(SimpleNamespace(t=0.25))
     writer.close()
@@ -266,11 +280,11 @@ def coarse_stress(tmp_path_factory):
     mp = pytest.MonkeyPatch()
     mp.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
     try:
-        mesh, _ = adapter.load_block(MPI.COMM_SELF, SIZE, "coarse")
+        mesh, _ = load_block(MPI.COMM_SELF, SIZE, "coarse")
     finally:
         mp.undo()
     V = adapter.vector_space(mesh)
-    return adapter.node_coordinates(V), adapter.hexahedra(V), adapter.cell_stress(V, E, NU)
+    return adapter.node_coordinates(V), hexahedra(V), adapter.cell_stress(V, E, NU)
 
 
 def uniform_strain_displacement(X, sigma):

@@ -190,6 +190,11 @@ def test_run_info_and_fields(breakaway_runs):
     assert scene.time.dt <= info["dt_stable"] < 1.2e-6
     assert info["wall_time_s"] >= info["loop_time_s"] > 0
     assert info["F_n_min_after_t_on"] is None  # no vibration
+    # The contact patch at the end: the whole face closed, its area the face's (rounding:
+    # 1e-12), the peak above the mean F_N / A (the block pitches as it slides)
+    assert info["nodes_in_contact"] == 30
+    assert info["contact_area"] == pytest.approx(0.03 * 0.04, rel=1e-12)
+    assert info["peak_pressure"] > scene.contact.F_N / (0.03 * 0.04)
     # The friction force fields sum to the series' last row.
     force = fe.fields["friction_force"]
     assert force.sum(axis=0)[:2] == pytest.approx([fe.series.F_x[-1], fe.series.F_y[-1]],
@@ -197,6 +202,11 @@ def test_run_info_and_fields(breakaway_runs):
     contact = fe.fields["contact_nodes"]
     assert np.all(fe.fields["coordinates"][contact, 2] == pytest.approx(0.0, abs=1e-12))
     assert set(FIELDS) <= set(fe.fields)
+    # the face's nodes at rest on the base: their gap is the penalty's penetration
+    # (negative, ~1 nm under 55 N); closed, each slides or sticks
+    gap, state = fe.fields["gap"][contact], fe.fields["contact_state"][contact]
+    assert np.all(gap < 0.0) and np.all(gap > -1e-7)
+    assert set(state.tolist()) <= {1.0, 2.0}
 
 
 def _front_minus_back(fields):

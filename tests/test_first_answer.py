@@ -115,7 +115,7 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
     reduction.forget()
     first_reduction = reduction.reduced(first, scene.fem.cutoff * scene.vibration.f)
     entries = sorted(p.name.split("-")[0] for p in model_cache_dir.glob("*.npz"))
-    assert entries == ["block", "reduction"]
+    assert entries == ["body", "reduction", "source"]
 
     def no_assembly(*args, **kwargs):
         raise AssertionError("assembled again despite the cache")
@@ -123,7 +123,7 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
     def no_reduction(*args, **kwargs):
         raise AssertionError("reduced again despite the cache")
 
-    monkeypatch.setattr(model_cache, "assemble_block", no_assembly)
+    monkeypatch.setattr(model_cache, "assemble_body", no_assembly)
     monkeypatch.setattr(reduction.Reduction, "__init__", no_reduction)
     reduction.forget()
     second = fe_model.build_model(scene, MPI.COMM_SELF)
@@ -146,13 +146,13 @@ def test_a_corrupt_model_entry_is_rebuilt(model_cache_dir, load_scene, monkeypat
 
     scene = _short_scene(load_scene, "explicit", 1e-6)
     first = fe_model.build_model(scene, MPI.COMM_SELF)
-    (entry,) = model_cache_dir.glob("block-*.npz")
+    (entry,) = model_cache_dir.glob("body-*.npz")
     data = bytearray(entry.read_bytes())
     data[len(data) // 2] ^= 0xFF
     entry.write_bytes(bytes(data))
     assembled = []
-    assemble = model_cache.assemble_block
-    monkeypatch.setattr(model_cache, "assemble_block",
+    assemble = model_cache.assemble_body
+    monkeypatch.setattr(model_cache, "assemble_body",
                         lambda *args: assembled.append(1) or assemble(*args))
     again = fe_model.build_model(scene, MPI.COMM_SELF)
     assert assembled                                # assembled anew, not read

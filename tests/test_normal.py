@@ -158,11 +158,15 @@ def test_a_phase_without_an_amplitude_is_refused():
 
 
 def test_the_default_normal_stiffness_bounces_at_the_bar_on_its_penalty_spring():
-    from vibrofric.fem.model.contact import default_penalty as fe_penalty
+    from vibrofric.fem.model.contact import default_contact_stiffness
 
     scene = load_scene("longitudinal")
     body = scene.body
-    assert default_penalty(body.E, body.size) == fe_penalty(body.E, body.size)
+    # the FE model's per-area default on the block's face (flat: no curvature radius)
+    # is the lumped model's whole-face penalty (to rounding: 1e-15)
+    Lx, Ly, Lz = body.size
+    per_area = default_contact_stiffness(body.E, body.nu, Lz, scene.contact.F_N, math.inf)
+    assert per_area * Lx * Ly == pytest.approx(default_penalty(body.E, body.size), rel=1e-15)
     x = bar_on_spring_root(10.0)
     assert x * math.tan(x) == pytest.approx(10.0, rel=1e-12)
     # a far stiffer block bounces as a rigid one on the penalty spring: k_n -> k_p
@@ -171,7 +175,8 @@ def test_the_default_normal_stiffness_bounces_at_the_bar_on_its_penalty_spring()
                              default_penalty(body.E, body.size))
     rigid = default_penalty(body.E, body.size) * body.mass / (7850.0 * 1e6 * 0.03 * 0.04 * 0.053)
     assert stiff == pytest.approx(rigid, rel=1e-5)
-    assert scene.normal_stiffness == pytest.approx(0.204 * fe_penalty(body.E, body.size), rel=0.01)
+    assert scene.normal_stiffness == pytest.approx(0.204 * default_penalty(body.E, body.size),
+                                                   rel=0.01)
 
 
 @pytest.mark.parametrize("phase, method", [(0.0, "auto"), (90.0, "auto"), (90.0, "transient")])

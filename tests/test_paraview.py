@@ -25,10 +25,10 @@ def one_hexahedron_frame(tmp_path) -> str:
     contact), as text."""
     corners = np.array([[x, y, z] for z in (0.0, 1.0) for y in (0.0, 1.0) for x in (0.0, 1.0)])
     disc = SimpleNamespace(nodes=8, coordinates=corners, cells=np.array([[0, 1, 3, 2, 4, 5, 7, 6]]),
-                           cell_stress=sp.csr_matrix((6, 24)))
+                           cell_stress=sp.csr_matrix((6, 24)), cell_type=paraview.VTK_HEXAHEDRON)
     contact = np.arange(4)
     model = SimpleNamespace(disc=disc, contact_nodes=contact, contact_area=np.full(4, 0.25),
-                            u0=np.zeros(24))
+                            u0=np.zeros(24), initial_gap=np.zeros(4), friction_coefficient=0.1)
     state = State(step=0, t=0.5, u=np.zeros(24), v=np.zeros(24), law_state=np.zeros((4, 4)),
                   deformation=np.zeros((4, 2)), normal=np.ones(4), friction=np.zeros((4, 2)),
                   x_b=0.0, y_b=0.0)

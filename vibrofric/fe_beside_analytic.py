@@ -116,6 +116,10 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
             summary["periodic"] = info["periodic"]
     fe_summary = {**summary,
                   "dofs": info["dofs"], "contact_nodes": info["contact_nodes"],
+                  "contact_area": info["contact_area"], "peak_pressure": info["peak_pressure"],
+                  "nodes_in_contact": info["nodes_in_contact"],
+                  **{key: info[key] for key in ("contact_area_range", "peak_pressure_range",
+                                                "nodes_in_contact_range") if key in info},
                   "integrator": info["integrator"], "integrator_choice": info["integrator_choice"],
                   "steps": info["steps"], "stopped_early": info["stopped_early"],
                   "stop_time_s": info["stop_time_s"], "saving": info["saving"],

@@ -21,11 +21,21 @@ class StepTooLong(Refusal):
 
 
 class NormalLoadTooSmall(Refusal):
-    """The normal load cannot hold the block on the base (below its weight, or no node in contact)."""
+    """The normal load cannot hold the body on the base (below its weight, no node in contact,
+    or a body without a load surface whose weight is not F_N)."""
 
 
 class DriveTipsBlock(Refusal):
     """The drive's line of action would tip the block over."""
+
+
+class DriveHasNoAttachment(Refusal):
+    """The drive's attachment names a facet group the body's mesh lacks."""
+
+
+class PatchUnresolved(Refusal):
+    """The static preload's contact patch does not settle: the mesh is too coarse where
+    the body touches the base."""
 
 
 class NoEnergyBalance(Refusal):

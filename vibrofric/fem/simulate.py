@@ -19,6 +19,7 @@ from .integrators import periodic, registry
 from .integrators.cycle_map import FECycleMap
 from .model.fe_model import build_model, cached_levels
 from .model.linalg import one_blas_thread
+from .outputs.contact_patch import patch, patch_range
 from .outputs.normal_swing import judge, node_swing
 from .outputs.paraview import FrameWriter, node_fields
 from .outputs.recording import COLUMNS, extra_columns
@@ -34,7 +35,9 @@ class FEResult:
             with fem.energy also extra[recording.ENERGY]; the rows the analytic
             stepper keeps up to the step the run ended at (early steady
             state: outputs/steady.py), so summarize() applies as is
-    info    what the run was and cost (run_info)
+    info    what the run was and cost (run_info), and its contact patch at the end
+            (outputs/contact_patch.patch: nodes_in_contact, contact_area,
+            peak_pressure; a steady cycle's answer adds their *_range over the cycle)
     fields  the node fields at the last step, as in the ParaView frames
             (paraview.FIELDS, arrays over the nodes) plus "coordinates" (nodes, 3),
             "contact_nodes" (indices) and "t" (the step's time, s)
@@ -169,7 +172,8 @@ def _run(scene, model, vtk_dir, progress, start, drive_force, start_time) -> FER
                   scene.vibration.f, scene.contact.F_N, model.beta)
     stats = {**run.stats, "F_n_node_swing": node_swing(run.node_normals)}
     clock = Clock(setup_time, run.stats["loop_time_s"], time.perf_counter() - start_time)
-    info = run_info(scene, model, integrator, stats, swing, writer, clock)
+    info = {**run_info(scene, model, integrator, stats, swing, writer, clock),
+            **patch(model.contact_area, run.state.normal)}
     if orbit is not None:
         info["periodic"] = periodic_block(orbit, scene)
     return FEResult(series=series, info=info, fields=last_fields(model, run.state), orbit=orbit)
@@ -259,7 +263,7 @@ NO_MESH_PARTNER = "tiny"
 
 def mesh_error(scene, result: FEResult, comm) -> dict:
     """The mesh's error of F_dv/F_d0, from the block of another refinement level where
-    the model cache holds one (model_cache.cached_levels): the same integrator at the
+    the model cache holds one (fe_model.cached_levels): the same integrator at the
     same step on it, |F - F_other|. Another level is run where time.error_estimate is
     true (the nearest finer one cached, else the nearest coarser), or "auto" and the
     step's error was estimated (the nearest coarser one: cheaper than the answer; its
@@ -335,7 +339,9 @@ def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, sta
     swing = judge(series.extra["F_n"][-averaging_steps(shot_scene):], shot_scene.time.dt,
                   scene.vibration.f, scene.contact.F_N, model.beta)
     clock = Clock(setup_time, orbit.solver_time_s, time.perf_counter() - start_time)
-    info = run_info(shot_scene, model, integrator, stats, swing, writer, clock)
+    info = {**run_info(shot_scene, model, integrator, stats, swing, writer, clock),
+            **patch(model.contact_area, last.normal),
+            **patch_range(model.contact_area, node_normals)}
     info["periodic"] = periodic_block(orbit, scene)
     return FEResult(series=series, info=info, fields=last_fields(model, last), orbit=orbit)
 
@@ -403,7 +409,7 @@ def model_info(scene, model, integrator) -> dict:
         "integrator_choice": integrator.choice,
         "nodes": disc.nodes,
         "dofs": disc.dofs,
-        "elements": int(math.prod(level_counts(scene.fem.mesh))),
+        "elements": int(disc.cells.shape[0]),
         "contact_nodes": int(model.contact_nodes.size),
         "attach": scene.drive.attach,
         "attach_nodes": int(model.attach_nodes.size),

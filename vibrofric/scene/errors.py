@@ -28,6 +28,8 @@ REFUSAL_KEYS = {
     errors.StepTooLong: "time.dt",
     errors.NormalLoadTooSmall: "contact.F_N",
     errors.DriveTipsBlock: "drive.attach",
+    errors.DriveHasNoAttachment: "drive.attach",
+    errors.PatchUnresolved: "fem.mesh",
     errors.NoEnergyBalance: "fem.energy",
     errors.ReductionFailed: "fem.cutoff",
     errors.WindowDoesNotFit: "time.average_cycles",

@@ -28,7 +28,7 @@ UNITS = {
     "vibration.normal_amplitude": "m", "vibration.normal_phase_deg": "deg",
     "time.T": "s", "time.dt": "s", "time.average_cycles": "cycles", "time.series_dt": "s",
     "time.steady_tolerance": "", "time.steady_cycles": "cycles", "time.settle_tolerance": "",
-    "fem.penalty": "N/m", "fem.output_every": "steps", "fem.damping": "s",
+    "fem.penalty": "N/m", "fem.contact_stiffness": "Pa/m", "fem.output_every": "steps", "fem.damping": "s",
     "fem.rho_infinity": "", "fem.cutoff": "", "fem.accuracy": "",
 }
 # [contact]'s fields that hold the law's parameters, not keys of their own

@@ -122,7 +122,9 @@ CONTACT_KEYS = ("law", "F_N", "eta_y", "k_n")     # the model's keys in [contact
 class Drive:
     k_d: float = 96068.0                   # N/m, the drive spring's stiffness
     v_d: float = 5e-4                      # m/s, the drive's speed
-    attach: str = "contact-plane"          # "contact-plane" | "front-face" (FE only)
+    attach: str = "contact-plane"          # "contact-plane" | "front-face" | "drive-group" (FE only:
+                                           # the facet group "contact", "front" or "drive" of the
+                                           # body's mesh; fem/model/drive.py)
     mode: str = "spring"                   # "spring" | "velocity"
 
     @property
@@ -183,7 +185,13 @@ class Fem:
     mesh: str = "coarse"                   # refinement level, see vibrofric.meshes
     integrator: str = "explicit"           # "explicit" | "implicit" | "reduced" | "auto"
                                            # (fem/integrators/registry.py)
-    penalty: typing.Optional[float] = None  # N/m for the whole contact face; default 10 E A / L_z
+    penalty: typing.Optional[float] = None  # N/m for the whole contact face (spread by area);
+                                           # default: contact_stiffness's
+    contact_stiffness: typing.Optional[float] = None  # the penalty per unit contact area, Pa/m;
+                                           # default 10 E / H, H the body's height (the block's
+                                           # 10 E A / L_z on its face A), on a curved contact
+                                           # at least 100 E* / a, a Hertz's contact radius
+                                           # (fem/model/contact.py)
     output_every: int = 2000               # steps between ParaView frames; 0: none
     damping: float = 0.0                   # stiffness-proportional damping beta, s; 0: 6% at the top mode
     rho_infinity: float = 0.9              # implicit, reduced: generalized-alpha's spectral radius at
@@ -206,7 +214,7 @@ SECTIONS = {"body": Body, "contact": Contact, "drive": Drive,
 
 CHOICES = {
     "body.shape": tuple(SHAPE_KEYS),
-    "drive.attach": ("contact-plane", "front-face"),
+    "drive.attach": ("contact-plane", "front-face", "drive-group"),
     "drive.mode": ("spring", "velocity"),
     "fem.integrator": ("explicit", "implicit", "reduced", "auto"),
     "fem.normal_force": ("nodal", "nominal"),

@@ -131,6 +131,11 @@ def validate(scene: Scene) -> None:
                          "the scene does not have: set vibration.normal_amplitude > 0")
     if scene.fem.penalty is not None and scene.fem.penalty <= 0:
         raise SceneError("fem.penalty", f"must be > 0, got {scene.fem.penalty}")
+    if scene.fem.contact_stiffness is not None and scene.fem.contact_stiffness <= 0:
+        raise SceneError("fem.contact_stiffness", f"must be > 0, got {scene.fem.contact_stiffness}")
+    if scene.fem.penalty is not None and scene.fem.contact_stiffness is not None:
+        raise SceneError("fem.contact_stiffness", "give the penalty once: fem.penalty (N/m, the "
+                         "whole contact) or fem.contact_stiffness (Pa/m, per unit area)")
     if not 0.0 <= scene.fem.rho_infinity <= 1.0:
         raise SceneError("fem.rho_infinity", f"must lie in [0, 1], got {scene.fem.rho_infinity}")
     if scene.fem.cutoff < 0:

@@ -266,7 +266,7 @@ class FECycleMap:
         F_c = scene.F_c if scene.F_c > 0 else scene.contact.F_N
         shift = 1e-3 * F_c / scene.drive.k_d
         speed = shift * math.sqrt(scene.drive.k_d / scene.body.mass)
-        turn_rate = speed / scene.body.size[0]
+        turn_rate = speed / self.model.length
         steps = [shift] + [turn_rate if kind == "turn" else speed for kind in kinds]
         return directions / norms, np.array(steps) * norms
 

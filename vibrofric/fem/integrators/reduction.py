@@ -163,7 +163,11 @@ class Reduction:
         K_ii = K[interior][:, interior].tocsc()
         K_ib = K[interior][:, boundary]
         mass_i = model.disc.mass[interior]
-        lu = symmetric_lu(K_ii, nested_dissection(dof_points(model.disc.coordinates)[interior]))
+        # nested dissection where the model found a structured grid (fe_model), else
+        # the sparse LU's minimum degree
+        order = (None if model.elimination_order is None
+                 else nested_dissection(dof_points(model.disc.coordinates)[interior]))
+        lu = symmetric_lu(K_ii, order)
         constraint = -lu.solve(K_ib.toarray())                  # Psi
         modes, omega = self._modes(K_ii, mass_i, lu, 2.0 * math.pi * cutoff_hz)
         drive = np.zeros(n)

@@ -1,8 +1,9 @@
-"""The elastic block as plain arrays: stiffness, lumped mass, face areas, cell stresses.
+"""The elastic body as plain arrays: stiffness, lumped mass, group areas, cell stresses.
 
-DOLFINx computes them (``dolfinx_adapter``: vector Q1 on the hexahedral mesh of
-``vibrofric.meshes``, the forms written out there); this module gathers them
-into the Discretization the rest of the FE model uses.
+DOLFINx computes them (``dolfinx_adapter``: first-order Lagrange on the body's
+placed mesh, a ``vibrofric.meshes.BodyMesh`` of hexahedra or tetrahedra, the
+forms written out there); this module gathers them into the Discretization the
+rest of the FE model uses.
 
 Every array is indexed like DOLFINx's blocked vector space: node d carries the
 degrees of freedom 3 d + c, c = 0, 1, 2 for X, Y, Z.
@@ -13,28 +14,29 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from ... import meshes
 from . import dolfinx_adapter
 
 
 @dataclass
 class Discretization:
-    """The block as plain arrays.
+    """The body as plain arrays.
 
-    level        the mesh level it was built on
-    coordinates  (nodes, 3) node positions of the undeformed block, m
+    description  the mesh it was built on (BodyMesh.description)
+    coordinates  (nodes, 3) node positions of the placed, undeformed body, m
     stiffness    scipy CSR (3 nodes, 3 nodes), N/m
     mass         (3 nodes,) lumped (row-sum) mass of each degree of freedom, kg
-    face_area    {face tag: (nodes,) tributary area of each node on that face, m^2}
+    face_area    {group name: (nodes,) tributary area a_i = int phi_i dA of each node on
+                 that facet group ("contact", "load", ...), m^2}
     volume       m^3
-    cells        (elements, 8) each hexahedron's nodes in VTK's corner order (the
+    cells        (elements, corners) each cell's nodes in VTK's corner order (the
                  ParaView frames: outputs/paraview.py)
+    cell_type    VTK's type of the cells: 12 hexahedron, 10 tetrahedron
     cell_stress  scipy CSR (6 elements, 3 nodes): each cell's mean stress (Voigt: xx,
                  yy, zz, yz, xz, xy; Pa) in a displacement, the cells as in ``cells``
                  (dolfinx_adapter.cell_stress; the frames' stress fields)
     """
 
-    level: str
+    description: str
     coordinates: np.ndarray
     stiffness: sp.csr_matrix
     mass: np.ndarray
@@ -42,6 +44,7 @@ class Discretization:
     volume: float
     cells: np.ndarray = field(repr=False)
     cell_stress: sp.csr_matrix = field(repr=False)
+    cell_type: int = dolfinx_adapter.VTK_HEXAHEDRON
 
     @property
     def nodes(self) -> int:
@@ -52,22 +55,23 @@ class Discretization:
         return 3 * self.nodes
 
 
-def assemble_block(comm, size, level, E, nu, density, faces) -> Discretization:
-    """Mesh the block at ``level`` and assemble K, the lumped mass and the face areas.
+def assemble_body(comm, body, E, nu, density, groups) -> Discretization:
+    """Read the body's placed mesh (a meshes.BodyMesh) and assemble K, the lumped mass,
+    the cell stress operator and the tributary areas of its facet groups ``groups``
+    (names; those the mesh lacks are left out of face_area).
 
-    ``faces`` lists the facet tags (vibrofric.meshes.CONTACT, TOP, ...) whose
-    nodal areas are wanted. An unknown level raises ValueError (from meshes).
     Serial only: ``comm`` must hold one process (the caller checks).
     """
-    meshes.level_counts(level)  # refuse an unknown level before any meshing
-    mesh, facet_tags = dolfinx_adapter.load_block(comm, size, level)
+    mesh, facet_tags = dolfinx_adapter.load_body(comm, body)
     V = dolfinx_adapter.vector_space(mesh)
     K = dolfinx_adapter.stiffness(V, E, nu)
     mass = dolfinx_adapter.lumped_mass(V, density)
-    face_area = dolfinx_adapter.face_areas(V, facet_tags, faces)
+    present = {name: body.tag(name) for name in groups if body.tag(name) is not None}
+    by_tag = dolfinx_adapter.face_areas(V, facet_tags, tuple(present.values()))
     coordinates = dolfinx_adapter.node_coordinates(V)
+    cells, cell_type = dolfinx_adapter.cells(V)
     assert K.shape == (3 * coordinates.shape[0],) * 2
-    return Discretization(level=level, coordinates=coordinates, stiffness=K, mass=mass,
-                          face_area=face_area, volume=dolfinx_adapter.volume(mesh),
-                          cells=dolfinx_adapter.hexahedra(V),
-                          cell_stress=dolfinx_adapter.cell_stress(V, E, nu))
+    return Discretization(description=body.description, coordinates=coordinates, stiffness=K,
+                          mass=mass, face_area={name: by_tag[tag] for name, tag in present.items()},
+                          volume=dolfinx_adapter.volume(mesh), cells=cells,
+                          cell_stress=dolfinx_adapter.cell_stress(V, E, nu), cell_type=cell_type)

@@ -62,11 +62,14 @@ import math
 import numpy as np
 from numba import njit
 
+from ...core.bounce import PENALTY_FACTOR as BLOCK_PENALTY_FACTOR
 from ...core.law_limits import SLIP_PER_STEP
 from ...friction_law import law_kernel
 from ...friction_law.contract import FASTMATH
 
-# Default penalty: this many times the block's axial stiffness E A / L_z.
+# Default penalty per unit contact area k_c = PENALTY_FACTOR E / H (Pa/m), H the body's
+# height: on the paper's block, whose face of area A = L_x L_y stands on it, the whole
+# face's PENALTY_FACTOR E A / L_z, this many times the block's axial stiffness.
 #  - Stiff enough to be "hard" contact: the penalty adds 1/10 of the block's own
 #    axial compliance, and the static penetration F_N / k_pen is ~1 nm, far
 #    below the vibration amplitude u0 ~ 1e-7 m and the Dahl length
@@ -74,10 +77,18 @@ from ...friction_law.contract import FASTMATH
 #  - Soft enough for the explicit step: on the "coarse" mesh it raises the
 #    highest frequency by ~10% (the stable step of the 0.5 kg block goes from
 #    1.22 to 1.11 us); 30 E A / L_z would bring it under the paper's 1e-6 s.
-#  - Defined on the whole face (not per element as Abaqus' default), so the
-#    block's rigid-body contact modes (bounce, rocking, 10-25 kHz) do not move
-#    when the mesh is refined.
-PENALTY_FACTOR = 10.0
+#  - Per unit area (not per element as Abaqus' default), so the body's rigid-body
+#    contact modes (bounce, rocking, 10-25 kHz on the block) do not move when the
+#    mesh is refined.
+PENALTY_FACTOR = BLOCK_PENALTY_FACTOR
+# On a curved body (its candidates at rest not all on the base) the contact's own
+# compliance is Hertz's: under the peak pressure p0 = 2 E* a / (pi R) (Johnson,
+# "Contact Mechanics", CUP 1985, eq 4.23) a penalty k_c penetrates p0 / k_c, against
+# the Hertz approach a^2 / R. With k_c = HERTZ_PENALTY E* / a their ratio is
+# 2 / (pi HERTZ_PENALTY) = 0.6%: a spring layer that much softer than the patch
+# widens it and lowers p0 by a fraction of that (docs/fe-model.md, "The per-area
+# penalty"). The default is the larger of this and PENALTY_FACTOR E / H.
+HERTZ_PENALTY = 100.0
 
 # A node whose slip in an explicit step is more than SUBSTEP_ONSET sliding
 # lengths s_c runs the friction law on sub-steps of at most SLIP_PER_STEP s_c
@@ -102,10 +113,37 @@ def nominal_normal(rule: str, F_N: float, area_share: np.ndarray) -> np.ndarray:
     return np.zeros_like(area_share)
 
 
-def default_penalty(E: float, size) -> float:
-    """Penalty stiffness of the whole contact face, N/m: PENALTY_FACTOR E A / L_z."""
-    Lx, Ly, Lz = size
-    return PENALTY_FACTOR * E * Lx * Ly / Lz
+def default_contact_stiffness(E: float, nu: float, height: float, F_N: float,
+                              radius: float) -> float:
+    """The default penalty per unit contact area, Pa/m: PENALTY_FACTOR E / H (H the body's
+    height), raised on a curved body (``radius`` R of its contact's curvature, inf for a
+    flat one) to HERTZ_PENALTY E* / a, a = (3 F_N R / (4 E*))^(1/3) the Hertz contact
+    radius on the rigid base (Johnson eq 4.22), E* = E / (1 - nu^2)."""
+    flat = PENALTY_FACTOR * E / height
+    if not math.isfinite(radius):
+        return flat
+    e_star = E / (1.0 - nu * nu)
+    a = (3.0 * F_N * radius / (4.0 * e_star)) ** (1.0 / 3.0)
+    return max(flat, HERTZ_PENALTY * e_star / a)
+
+
+def curvature_radius(xy: np.ndarray, initial_gap: np.ndarray) -> float:
+    """R of the sphere r^2 + g0^2 = 2 R g0 closest (least squares, weighted by g0) to the
+    candidates' initial gaps ``initial_gap`` (n,) at plan positions ``xy`` (n, 2), r
+    measured from the centre of those touching at rest (g0 = 0):
+
+        R = sum g0 (r^2 + g0^2) / (2 sum g0^2)
+
+    inf where all touch (a flat face). A sphere's cap gives its radius exactly; a
+    paraboloid g0 = r^2 / 2 R a little more (by g0 / 2); a cylinder on its side, whose
+    gap grows across it only, more (its axial offsets count as r): an estimate of the
+    patch's scale, which is all default_contact_stiffness needs of it."""
+    touching = initial_gap <= 0.0
+    if touching.all():
+        return math.inf
+    r2 = ((xy - xy[touching].mean(axis=0)) ** 2).sum(axis=1)
+    g = initial_gap
+    return float(np.dot(g, r2 + g * g) / (2.0 * np.dot(g, g)))
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)

@@ -21,14 +21,15 @@ offers, never by reading its version string:
 mpi4py.MPI is imported before DOLFINx: the PyPI wheel finds its MPI library
 only once mpi4py has loaded it.
 
-The block is linear elastic (small strains), vector Q1 (trilinear Lagrange) on
-hexahedra:
+The body is linear elastic (small strains), first-order Lagrange: vector Q1
+(trilinear) on hexahedra, vector P1 (linear) on tetrahedra:
 
     stiffness   K_ij = int_V  sigma(phi_j) : eps(phi_i) dV,
                 sigma(u) = 2 G eps(u) + lambda tr(eps(u)) I,  eps(u) = sym(grad u)
                 G = E / (2 (1 + nu)),  lambda = E nu / ((1 + nu)(1 - 2 nu))
     lumped mass m_i = sum_j int_V rho phi_i . phi_j dV = int_V rho phi_i dV
-                (row sums; on Q1 hexahedra all positive and summing to rho V)
+                (row sums; on Q1 hexahedra and P1 tetrahedra all positive and summing
+                to rho V)
     face areas  a_i = int_face phi_i dA  (each node's tributary area on a face)
     cell stress S = diag(1 / |cell|) A,  A_(c k),j = int_cell sigma(phi_j)_k dV
                 (the L2 projection of sigma(u) onto cell-wise constants, DG0: each
@@ -90,31 +91,32 @@ def _model_to_mesh(model, comm, rank):
     return mesh, facet_tags
 
 
-def load_block(comm, size=meshes.DEFAULT_SIZE, level: str = "coarse", rank: int = 0):
-    """Return (mesh, facet_tags): the block as a distributed DOLFINx mesh.
+def load_body(comm, body, rank: int = 0):
+    """Return (mesh, facet_tags): the body (a meshes.BodyMesh) as a distributed DOLFINx mesh.
 
-    Rank ``rank`` of ``comm`` makes or finds the cached .msh file
-    (``meshes.block_mesh_file``) and reads it through gmsh; DOLFINx then
-    distributes the mesh over ``comm``. The facet tags are meshes.CONTACT ...
-    meshes.RIGHT. (DOLFINx 0.5.2's ``gmshio.read_from_msh`` ends in a NameError;
-    this does what it means to do.)
+    Rank ``rank`` of ``comm`` reads the placed .msh file ``body.path`` through gmsh;
+    DOLFINx then distributes the mesh over ``comm``. The facet tags are the mesh's
+    physical tags (``body.facet_groups`` names them). First-order hexahedra or
+    tetrahedra (``cells`` refuses others). (DOLFINx 0.5.2's ``gmshio.read_from_msh``
+    ends in a NameError; this does what it means to do.)
     """
     _dolfinx()
     if comm.rank != rank:
-        error = comm.bcast(None, root=rank)
-        if error is not None:
-            raise error
         return _model_to_mesh(None, comm, rank)
-
-    try:
-        path = meshes.block_mesh_file(size, level)
-    except Exception as error:
-        comm.bcast(error, root=rank)
-        raise
-    comm.bcast(None, root=rank)
     with meshes.gmsh_model("vibrofric-load") as gmsh:
-        gmsh.merge(str(path))
+        gmsh.merge(str(body.path))
+        kinds = {int(kind) for kind in gmsh.model.mesh.getElementTypes(3)}
+        if not kinds <= set(FIRST_ORDER_GMSH):
+            names = [gmsh.model.mesh.getElementProperties(kind)[0] for kind in sorted(kinds)]
+            raise ValueError(f"{body.description or body.path}: its cells are {', '.join(names)}; "
+                             "only first-order tetrahedra or hexahedra are accepted (a row-sum "
+                             "lumped mass of second-order tetrahedra has zero or negative corner "
+                             "masses, which the explicit step cannot take)")
         return _model_to_mesh(gmsh.model, comm, rank)
+
+
+# gmsh's element types of the accepted cells: 4-node tetrahedron, 8-node hexahedron
+FIRST_ORDER_GMSH = (4, 5)
 
 
 def vector_space(mesh):
@@ -176,7 +178,7 @@ def cell_stress(V, E: float, nu: float) -> sp.csr_matrix:
     """S (6 cells, 3 nodes), scipy CSR: row 6 c + k of cell c's mean stress component k
     (VOIGT) in a displacement u on V: sigma_c = S u, Pa for u in m (the DG0 projection:
     see the module's docstring). Its cells are in the order of the mesh's local cells,
-    that of ``hexahedra``."""
+    that of ``cells``."""
     dolfinx, ufl, PETSc = _dolfinx()
     fem, mesh = dolfinx.fem, V.mesh
     if hasattr(fem, "functionspace"):  # 0.8+
@@ -236,21 +238,30 @@ def node_coordinates(V) -> np.ndarray:
     return coordinates
 
 
-# VTK's cell type of a linear hexahedron
+# VTK's cell types of the first-order cells (their corner counts)
 VTK_HEXAHEDRON = 12
+VTK_TETRAHEDRON = 10
+CORNERS = {VTK_HEXAHEDRON: 8, VTK_TETRAHEDRON: 4}
 
 
-def hexahedra(V) -> np.ndarray:
-    """(cells, 8) each cell's nodes (the space's node indices, as node_coordinates
-    orders them) in VTK's order of a hexahedron's corners: the cells of the
-    ParaView frames (fem/outputs/paraview.py)."""
+def cells(V):
+    """(cells, vtk_type): each cell's nodes (cells, corners) (the space's node indices,
+    as node_coordinates orders them) in VTK's corner order, and VTK's type of them all
+    (VTK_HEXAHEDRON or VTK_TETRAHEDRON): the cells of the ParaView frames
+    (fem/outputs/paraview.py). ValueError for any other cell (second order, prisms,
+    a mix)."""
     dolfinx, _, _ = _dolfinx()
     import dolfinx.plot
 
     make = getattr(dolfinx.plot, "vtk_mesh", None) or dolfinx.plot.create_vtk_mesh
     topology, cell_types, points = make(V)
-    assert np.all(np.asarray(cell_types) == VTK_HEXAHEDRON)
+    types = np.unique(np.asarray(cell_types))
+    if types.size != 1 or int(types[0]) not in CORNERS:
+        raise ValueError(f"the body's mesh has VTK cell types {types.tolist()}: only first-order "
+                         "hexahedra (12) or tetrahedra (10), one kind per mesh, are accepted")
+    vtk_type = int(types[0])
     assert np.array_equal(points, node_coordinates(V))  # its points are the space's nodes
-    cells = np.asarray(topology).reshape(-1, 9)          # [8, n_0 ... n_7] per cell
-    assert np.all(cells[:, 0] == 8)
-    return cells[:, 1:].astype(np.int64)
+    corners = CORNERS[vtk_type]
+    rows = np.asarray(topology).reshape(-1, corners + 1)  # [corners, n_0 ...] per cell
+    assert np.all(rows[:, 0] == corners)
+    return rows[:, 1:].astype(np.int64), vtk_type

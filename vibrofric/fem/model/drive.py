@@ -1,4 +1,4 @@
-"""The drive: a spring k_d from the point B moving at v_d to the block (eq 17).
+"""The drive: a spring k_d from the point B moving at v_d to the body (eq 17).
 
 The spring attaches to a set of nodes A with weights w_a (sum 1). Its length
 change is the weighted mean X displacement of those nodes since the preloaded
@@ -16,26 +16,29 @@ exactly (after a start, prescribed_position), and F_d is the constraint's
 force, spread by the same weights (each integrator solves for it: integrators/explicit.py,
 contact_solve.contact_residual).
 
-Where it attaches (scene drive.attach, docs/model.md section 5):
+Where it attaches (scene drive.attach, docs/model.md section 5), a facet group
+of the body's mesh (meshes/body.py), its nodes weighted by tributary area:
 
 contact-plane
-    the contact-face nodes, weighted by tributary area: a uniform traction on
-    the plane z = 0, where the friction acts too, so the drive and friction
-    make no tilting moment: the lumped model's setting, used to validate.
+    the group "contact", the contact candidates: on the block a uniform
+    traction on the plane z = 0, where the friction acts too, so the drive and
+    friction make no tilting moment: the lumped model's setting, used to validate.
 front-face
-    the front face FRONT (x = L_x) weighted by tributary area: a uniform
-    traction whose resultant acts at the face's centre, mid-height L_z / 2; with
-    the friction at z = 0 it tilts the block and makes the contact pressure
+    the group "front", the block's front face (x = L_x): a uniform traction
+    whose resultant acts at the face's centre, mid-height L_z / 2; with the
+    friction at z = 0 it tilts the block and makes the contact pressure
     non-uniform, which the lumped model lacks.
+drive-group
+    the mesh's own group "drive", wherever its author put it.
 """
 
 import numpy as np
 from numba import njit
 
-from ... import meshes
+from ...core.errors import DriveHasNoAttachment
 from ...friction_law.contract import FASTMATH
 
-ATTACH_FACES = {"contact-plane": meshes.CONTACT, "front-face": meshes.FRONT}
+ATTACH_GROUPS = {"contact-plane": "contact", "front-face": "front", "drive-group": "drive"}
 
 # A prescribed drive reaches v_d in this time, at constant acceleration. Started
 # at v_d in one step, the block is given v_d / dt: at 1e-6 s a force of 250 N on
@@ -57,9 +60,14 @@ def prescribed_position(t, v_d):
     return v_d * (t - 0.5 * START_TIME)
 
 
-def attachment(scene, face_area: dict):
-    """(nodes, weights) of the drive's attachment: the face's nodes by area share."""
-    area = face_area[ATTACH_FACES[scene.drive.attach]]
+def attachment(scene, face_area: dict, body: str = ""):
+    """(nodes, weights) of the drive's attachment: its group's nodes by area share.
+    Refuses (DriveHasNoAttachment) a body whose mesh lacks the group (``body`` names it)."""
+    group = ATTACH_GROUPS[scene.drive.attach]
+    if group not in face_area:
+        raise DriveHasNoAttachment(f"the body's mesh ({body}) has no facet group {group!r} for "
+                                   f"drive.attach = {scene.drive.attach!r}; use \"contact-plane\"")
+    area = face_area[group]
     nodes = np.flatnonzero(area > 0.0).astype(np.int64)
     return nodes, area[nodes] / area[nodes].sum()
 

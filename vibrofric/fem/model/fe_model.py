@@ -1,17 +1,23 @@
-"""The FE model of a scene as plain arrays: block, loads, contact, drive, preload, step.
+"""The FE model of a scene as plain arrays: body, loads, contact, drive, preload, step.
 
 ``build_model(scene, comm)`` does everything that happens once per run:
 
-1. the elastic block (assembly.py): K, lumped mass M, face areas, with
-   rho = body.density or body.mass / volume (0.5 kg -> 7850 kg/m^3 and
-   2 kg -> 31400 kg/m^3 on the paper's block), read from the model cache
-   after the first run on the same block (model_cache.py);
-2. the normal load (loads.py): gravity + top pressure, total F_N;
-3. the contact (contact.py): the contact-face nodes, their area shares
-   w_i = a_i / A and penalty springs k_pen w_i, and the normal force each
-   node's law sees under fem.normal_force (contact.nominal_normal);
-4. the drive's attachment nodes and weights (drive.py);
-5. the static preload u0 (preload.py);
+1. the elastic body (assembly.py) on its placed mesh, a meshes.BodyMesh (body_of:
+   the paper's block, meshes.block_body, unless meshes offers body_mesh): K, lumped
+   mass M, the facet groups' areas, with rho = body.density or body.mass / the
+   mesh's volume (0.5 kg -> 7850 kg/m^3 and 2 kg -> 31400 kg/m^3 on the paper's
+   block), read from the model cache after the first run on the same mesh
+   (model_cache.py);
+2. the normal load (loads.py): gravity + a uniform pressure on the group "load" (the
+   block's top), total F_N; without that group gravity alone, which must be F_N;
+3. the contact (contact.py): the nodes of the group "contact" (the candidates),
+   their tributary areas a_i, shares w_i = a_i / A and initial gaps g0_i (their
+   heights at rest), their penalty springs k_pen,i = k_c a_i (penalty_shares: k_c
+   per unit area), and the normal force each node's law sees under
+   fem.normal_force (contact.nominal_normal);
+4. the drive's attachment nodes and weights (drive.py), a front-face drive that
+   would tip the body refused (check_tipping);
+5. the static preload u0 and its contact patch (preload.py);
 6. the highest frequency, the damping and the stable step (stability.py).
 
 Damping (fem.damping = beta, seconds; C = beta (K + K_pen), stability.py).
@@ -41,14 +47,15 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ... import meshes
+from ...core.bounce import default_penalty as block_penalty
 from ...core.errors import DriveTipsBlock, StepTooLong
 from . import stability
 from . import model_cache
 from .assembly import Discretization
-from .contact import default_penalty, nominal_normal
-from .drive import attachment, drive_stiffness_action
-from .loads import normal_load, top_pressure
-from .linalg import dof_points, nested_dissection
+from .contact import curvature_radius, default_contact_stiffness, nominal_normal
+from .drive import ATTACH_GROUPS, attachment, drive_stiffness_action
+from .loads import normal_load, load_pressure
+from .linalg import dof_points, nested_dissection, on_grid
 from .preload import static_preload
 
 
@@ -56,25 +63,31 @@ from .preload import static_preload
 class FEModel:
     disc: Discretization
     density: float           # kg/m^3
-    block_mass: float        # kg, rho V
-    pressure: float          # Pa, on TOP
-    load: np.ndarray         # (dofs,) gravity + top pressure
+    block_mass: float        # kg, rho V (the body's, whatever its shape)
+    pressure: float          # Pa, on the group "load" (0 without one)
+    load: np.ndarray         # (dofs,) gravity + the load group's pressure
     inverse_mass: np.ndarray  # (dofs,) 1 / m_i
-    contact_nodes: np.ndarray  # (n,) node indices on CONTACT
+    contact_nodes: np.ndarray  # (n,) node indices of the group "contact" (the candidates)
     initial_gap: np.ndarray    # (n,) each contact node's height above the base's plane at
                                # rest, before the preload, m (its z: meshes/body.py places
                                # the lowest contact point on z = 0; the block's face is all 0)
     contact_area: np.ndarray   # (n,) tributary areas a_i, m^2
     area_share: np.ndarray     # (n,) w_i = a_i / A, sum 1
-    penalty: float             # N/m, whole face
-    penalty_share: np.ndarray  # (n,) k_pen w_i
+    penalty: float             # N/m, sum of penalty_share (the whole candidate surface's)
+    penalty_share: np.ndarray  # (n,) k_pen,i = k_c a_i (penalty_shares)
     nominal_normal: np.ndarray  # (n,) F_N w_i under fem.normal_force "nominal", else 0
                                 # (contact.nominal_normal)
     attach_nodes: np.ndarray
     attach_weights: np.ndarray
     u0: np.ndarray             # (dofs,) static preload displacement
     normal0: np.ndarray        # (n,) static normal forces, sum F_N
-    elimination_order: np.ndarray  # (dofs,) for the sparse LUs: nested dissection (linalg)
+    in_contact0: np.ndarray    # (n,) bool: the preload's contact patch (its active set)
+    length: float              # m, the body's extent in X (the sliding direction), to
+                               # LENGTH_DIGITS significant digits
+    friction_coefficient: float  # the law's sliding coefficient mu (friction_law Bounds): the
+                                 # frames' stick / slip (outputs/contact_patch.py)
+    elimination_order: np.ndarray | None  # (dofs,) for the sparse LUs: nested dissection
+                                          # on a grid (linalg), else None: minimum degree
     omega_max: float           # rad/s
     beta: float                # s, Rayleigh stiffness-proportional damping
     dt_stable: float           # s
@@ -88,30 +101,59 @@ class FEModel:
         return self.disc.dofs
 
 
-def density(scene) -> float:
-    """body.density, else body.mass / (L_x L_y L_z)."""
+def body_of(scene, level: str | None = None) -> meshes.BodyMesh:
+    """The scene's body as a placed mesh (meshes.BodyMesh) at refinement ``level``
+    (default fem.mesh): the one place that says which body a scene is. Where meshes
+    offers body_mesh (built-in shapes, the user's mesh) it decides; else the body is
+    the paper's block, meshes.block_body(body.size, level)."""
+    level = scene.fem.mesh if level is None else level
+    if hasattr(meshes, "body_mesh"):
+        return meshes.body_mesh(scene.body, level, getattr(scene, "directory", None))
+    return meshes.block_body(scene.body.size, level)
+
+
+def block_size(scene):
+    """body.size where the scene's body is the paper's block (body_of's default), else
+    None: the block keeps the whole-face default penalty of the lumped model's bounce
+    (core/bounce.py; penalty_shares)."""
+    body = scene.body
+    if getattr(body, "shape", "block") == "block" and getattr(body, "mesh", None) is None:
+        return body.size
+    return None
+
+
+def density(scene, body: meshes.BodyMesh) -> float:
+    """body.density, else body.mass / the mesh's volume (the block's L_x L_y L_z)."""
     if scene.body.density is not None:
         return scene.body.density
-    return scene.body.mass / math.prod(scene.body.size)
+    return scene.body.mass / body.volume
 
 
-def check_tipping(scene) -> None:
-    """Refuse a front-face drive strong enough to tip the block over its front edge.
+def check_tipping(scene, disc: Discretization, contact_nodes, contact_area) -> None:
+    """Refuse a front-face drive strong enough to tip the body over its front edge.
 
-    About the front bottom edge, the drive (up to the sliding force
-    max(mu, mu_s) F_N, at height L_z / 2) turns the block against the normal
-    load F_N acting at L_x / 2: it tips, and the back of the face lifts off the
-    base, once max(mu, mu_s) L_z > L_x.
+    About the front edge of the preload's contact patch (its largest x), the drive
+    (up to the sliding force max(mu, mu_s) F_N, acting at the front group's mean height
+    h) turns the body against the normal load F_N acting at the patch's centre x_c
+    (area-weighted; ``contact_nodes`` and ``contact_area`` are the patch's): it
+    tips, and the back of the contact lifts off the base, once max(mu, mu_s) h >=
+    x_edge - x_c. The block: h = L_z / 2, x_edge - x_c = L_x / 2, so once
+    max(mu, mu_s) L_z >= L_x. The other attachments act at the contact (no moment) or
+    where the mesh's own "drive" group is, which the user placed.
     """
     if scene.drive.attach != "front-face":
         return
-    Lx, _, Lz = scene.body.size
+    front = disc.face_area[ATTACH_GROUPS["front-face"]]
+    front_nodes = np.flatnonzero(front > 0.0)
+    height = float(np.average(disc.coordinates[front_nodes, 2], weights=front[front_nodes]))
+    x = disc.coordinates[contact_nodes, 0]
+    lever = float(x.max() - np.average(x, weights=contact_area))
     mu_max = scene.mu_max
-    if mu_max * Lz >= Lx:
-        raise DriveTipsBlock(f"a front-face drive at mid-height would tip the block "
-                                         f"(friction coefficient {mu_max:g} >= L_x / L_z = "
-                                         f"{Lx / Lz:.3g}) and leave its back off the base; "
-                                         "use \"contact-plane\"")
+    if mu_max * height >= lever:
+        raise DriveTipsBlock(f"a front-face drive at mid-height would tip the body "
+                             f"(friction coefficient {mu_max:g} >= {lever / height:.3g}, the "
+                             "contact's half-length over the drive's height) and leave its "
+                             "back off the base; use \"contact-plane\"")
 
 
 # Within kept_between_runs(): the last model built, under what it was built from
@@ -146,8 +188,7 @@ def kept_for_this_process() -> None:
 def _built_from(scene) -> str:
     """What build_model reads of a scene, as a key: equal keys build equal models."""
     bounds = scene.law_bounds
-    return repr((scene.body.mass, tuple(scene.body.size), scene.body.E, scene.body.nu,
-                 scene.body.density, scene.body.gravity, scene.fem.mesh, scene.fem.penalty,
+    return repr((scene.body, scene.fem.mesh, scene.fem.penalty, scene.fem.contact_stiffness,
                  scene.fem.damping, scene.fem.normal_force, scene.drive.attach,
                  scene.drive.prescribed, scene.drive.k_d, scene.contact.F_N, scene.mu_max,
                  bounds.stiffness, bounds.max_stiffness))
@@ -165,7 +206,6 @@ def build_model(scene, comm) -> FEModel:
     """Everything a run needs before its first step; refuses a scene it cannot run
     (core.errors.Refusal). Within kept_between_runs(), the model built last for the
     same inputs, if any."""
-    check_tipping(scene)
     if _kept is None:
         return _built(scene, comm)
     key = _built_from(scene)
@@ -175,42 +215,87 @@ def build_model(scene, comm) -> FEModel:
     return _kept[key]
 
 
-MODEL_FACES = (meshes.CONTACT, meshes.TOP, meshes.FRONT)
+# The facet groups the model reads (meshes/body.py): the contact candidates, the load's
+# surface and the drive's attachments
+MODEL_GROUPS = ("contact", "load", "front", "drive")
 
 
 def cached_levels(scene) -> list[str]:
-    """The refinement levels other than fem.mesh whose block for ``scene`` is cached
-    (model_cache.cached_levels): the meshes a mesh error can be had from cheaply."""
-    body = scene.body
-    return [level for level in model_cache.cached_levels(body.size, body.E, body.nu,
-                                                         density(scene), MODEL_FACES)
-            if level != scene.fem.mesh]
+    """The refinement levels other than fem.mesh whose body for ``scene`` is cached
+    (model_cache.holds_source, asked without meshing): the meshes a mesh error can be
+    had from cheaply."""
+    return [level for level in meshes.LEVELS
+            if level != scene.fem.mesh and model_cache.holds_source(body_source(scene, level))]
+
+
+def body_source(scene, level: str) -> dict:
+    """What the model's arrays of ``scene``'s body at ``level`` are made from, short of
+    the mesh itself (model_cache's source entries): the body section (its shape or mesh,
+    size, material, density, mass) and the level."""
+    return {"body": repr(scene.body), "level": level}
+
+
+def penalty_shares(scene, contact_area: np.ndarray, area_share: np.ndarray,
+                   height: float, radius: float) -> tuple:
+    """(k_pen, (n,) k_pen,i): each candidate's penalty stiffness k_pen,i = k_c a_i, N/m,
+    k_c the contact's stiffness per unit area (Pa/m), so that refining the mesh leaves
+    it as it is, and k_pen that of the whole candidate surface (N/m).
+
+    fem.contact_stiffness gives k_c; fem.penalty (N/m) the whole candidate surface's,
+    k_pen w_i; neither: the default k_c (contact.default_contact_stiffness: PENALTY_FACTOR
+    E / H, H the body's ``height``, raised on a curved contact of radius ``radius`` to
+    keep the penalty's compliance 0.6% of Hertz's), which on the paper's block is
+    computed as its whole face's
+    PENALTY_FACTOR E L_x L_y / L_z times w_i: the same penalty as the lumped model's
+    bounce (core/bounce.py), and the floats the block always had.
+    """
+    if scene.fem.penalty is not None:
+        return scene.fem.penalty, scene.fem.penalty * area_share
+    size = block_size(scene)
+    if scene.fem.contact_stiffness is None and size is not None:
+        whole = block_penalty(scene.body.E, size)
+        return whole, whole * area_share
+    k_c = scene.fem.contact_stiffness
+    if k_c is None:
+        k_c = default_contact_stiffness(scene.body.E, scene.body.nu, height,
+                                        scene.contact.F_N, radius)
+    shares = k_c * contact_area
+    return float(shares.sum()), shares
 
 
 def _built(scene, comm) -> FEModel:
     body = scene.body
-    rho = density(scene)
-    disc = model_cache.block(comm, body.size, scene.fem.mesh, body.E, body.nu, rho,
-                             faces=MODEL_FACES)
+    body_mesh = body_of(scene)
+    rho = density(scene, body_mesh)
+    disc = model_cache.body(comm, body_mesh, body.E, body.nu, rho, MODEL_GROUPS,
+                            body_source(scene, scene.fem.mesh))
+    if "contact" not in disc.face_area:
+        raise ValueError(f"{body_mesh.description}: the mesh has no \"contact\" facet group")
 
-    block_mass = rho * disc.volume
-    top = disc.face_area[meshes.TOP]
-    pressure = top_pressure(scene, block_mass, top.sum())
-    load = normal_load(disc.mass, top, body.gravity, pressure)
-
-    area = disc.face_area[meshes.CONTACT]
+    area = disc.face_area["contact"]
     contact_nodes = np.flatnonzero(area > 0.0).astype(np.int64)
     contact_area = area[contact_nodes]
     area_share = contact_area / contact_area.sum()
-    penalty = scene.fem.penalty if scene.fem.penalty is not None else default_penalty(body.E, body.size)
-    penalty_share = penalty * area_share
 
-    attach_nodes, attach_weights = attachment(scene, disc.face_area)
-    elimination_order = nested_dissection(dof_points(disc.coordinates))
+    block_mass = rho * disc.volume
+    load_area = disc.face_area.get("load")
+    pressure = load_pressure(scene, block_mass, load_area, body_mesh.description)
+    load = normal_load(disc.mass, load_area, body.gravity, pressure)
 
-    u0, normal0 = static_preload(disc.stiffness, load, contact_nodes, penalty_share, area_share,
-                                 scene.law_bounds.stiffness, scene.contact.F_N,
-                                 elimination_order)
+    extent = np.ptp(disc.coordinates, axis=0)
+    gap0 = initial_gap(disc.coordinates, contact_nodes)
+    radius = curvature_radius(disc.coordinates[contact_nodes, :2], gap0)
+    penalty, penalty_share = penalty_shares(scene, contact_area, area_share, float(extent[2]),
+                                            radius)
+
+    attach_nodes, attach_weights = attachment(scene, disc.face_area, body_mesh.description)
+    elimination_order = (nested_dissection(dof_points(disc.coordinates))
+                         if on_grid(disc.coordinates) else None)
+
+    u0, normal0, in_contact0 = static_preload(
+        disc.stiffness, load, contact_nodes, penalty_share, area_share,
+        scene.law_bounds.stiffness, scene.contact.F_N, elimination_order, gap0)
+    check_tipping(scene, disc, contact_nodes[in_contact0], contact_area[in_contact0])
 
     omega_max = stability.max_frequency(
         disc.stiffness, disc.mass, contact_nodes, penalty_share, scene.law_bounds.max_stiffness * area_share,
@@ -221,16 +306,22 @@ def _built(scene, comm) -> FEModel:
 
     return FEModel(disc=disc, density=rho, block_mass=block_mass, pressure=pressure, load=load,
                    inverse_mass=1.0 / disc.mass, contact_nodes=contact_nodes,
-                   initial_gap=initial_gap(disc.coordinates, contact_nodes),
-                   contact_area=contact_area, area_share=area_share, penalty=penalty,
-                   penalty_share=penalty_share,
+                   initial_gap=gap0, contact_area=contact_area, area_share=area_share,
+                   penalty=penalty, penalty_share=penalty_share,
                    nominal_normal=nominal_normal(scene.fem.normal_force, scene.contact.F_N,
                                                  area_share),
                    attach_nodes=attach_nodes,
                    attach_weights=attach_weights, u0=u0, normal0=normal0,
+                   in_contact0=in_contact0, length=float(f"{extent[0]:.{LENGTH_DIGITS}g}"),
+                   friction_coefficient=scene.law_bounds.friction_coefficient,
                    elimination_order=elimination_order,
                    omega_max=omega_max, beta=beta, dt_stable=dt_stable)
 
+
+# FEModel.length is a scale (the periodic solver's difference step of a turn,
+# integrators/cycle_map.py): rounded, so that gmsh's rounding of the coordinates (the
+# block's 0.03 m comes back 0.030000000000000002) does not move it.
+LENGTH_DIGITS = 12
 
 # Heights within this fraction of the body's extent are the base's plane itself: gmsh
 # leaves ~1e-18 m of rounding on the block's flat face (z = 0 by construction).

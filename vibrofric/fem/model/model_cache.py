@@ -1,15 +1,19 @@
-"""The FE model's costly parts kept on disk between runs: the block and its reduction.
+"""The FE model's costly parts kept on disk between runs: the body and its reduction.
 
-A run's set-up meshes the block (gmsh), assembles K, the lumped M and the
-face areas (DOLFINx) and, for the reduced integrator, builds the Craig-Bampton
-basis (integrators/reduction.py). A repeat run, or every point of a sweep on one block,
-would build the same again. This module keeps them in
+A run's set-up reads the body's mesh (a meshes.BodyMesh), assembles K, the lumped M
+and the facet groups' areas (DOLFINx) and, for the reduced integrator, builds the
+Craig-Bampton basis (integrators/reduction.py). A repeat run, or every point of a
+sweep on one body, would build the same again. This module keeps them in
 ``disk_cache.cache_root()/models``:
 
-    block-<key>.npz       coordinates, K and the cell stress operator (CSR arrays), M,
-                          face areas, volume, cells: keyed by
-                          the block's size, mesh level, E, nu, density, the faces
-                          asked for, the DOLFINx version and the package's
+    body-<key>.npz        coordinates, K and the cell stress operator (CSR arrays), M,
+                          the groups' areas, volume, cells and their VTK type: keyed by
+                          the mesh's content (BodyMesh.key) and its groups' tags, E, nu,
+                          density, the groups asked for, the DOLFINx version and the
+                          package's
+    source-<key>.npz      the name of the body entry a scene's body at a mesh level was
+                          built into: keyed by what the scene says of its body and the
+                          level (fe_model.cached_levels asks it without meshing)
     reduction-<key>.npz   reduction.Reduction's arrays: keyed by the model's content
                           (reduction.model_key), the cutoff, numpy's, scipy's and
                           the package's versions
@@ -23,7 +27,7 @@ right or never looked up; "the package's version" is its version and the hash
 of its sources (friction_law.contract.package_hash), so an edited package
 builds afresh. Entries are checked and written atomically (disk_cache.py):
 a damaged one is rebuilt, never used; processes building the same entry at
-once build it once. The block's entry holds its cells too, from which the
+once build it once. The body's entry holds its cells too, from which the
 ParaView frames are written (outputs/paraview.py): a run from the cache never loads
 DOLFINx, gmsh or MPI.
 
@@ -44,11 +48,10 @@ import scipy.sparse as sp
 
 from ... import __version__, disk_cache
 from ...friction_law.contract import package_hash
-from ...meshes import LEVELS
 from . import dolfinx_adapter
-from .assembly import Discretization, assemble_block
+from .assembly import Discretization, assemble_body
 
-FORMAT = 3   # the entries' layout: a change here makes every entry anew
+FORMAT = 4   # the entries' layout: a change here makes every entry anew
 # Entries of each kind kept: the most recently used (a reduction of the "fine" mesh
 # holds its dense basis, ~270 MB; the "coarse" one's ~0.6 MB).
 KEPT_ENTRIES = 12
@@ -117,47 +120,63 @@ def _unpacked_csr(name: str, arrays: dict) -> sp.csr_matrix:
                          shape=tuple(int(n) for n in arrays[f"{name}_shape"]))
 
 
-def _packed(disc: Discretization, faces) -> dict:
+def _packed(disc: Discretization) -> dict:
     arrays = {"coordinates": disc.coordinates, **_packed_csr("K", disc.stiffness),
               **_packed_csr("S", disc.cell_stress), "mass": disc.mass,
-              "volume": disc.volume, "cells": disc.cells}
-    for tag in faces:
-        arrays[f"face_{tag}"] = disc.face_area[tag]
+              "volume": disc.volume, "cells": disc.cells, "cell_type": disc.cell_type,
+              "groups": np.array(sorted(disc.face_area))}
+    for name, area in disc.face_area.items():
+        arrays[f"area_{name}"] = area
     return arrays
 
 
-def _unpacked(arrays: dict, level: str, faces) -> Discretization:
+def _unpacked(arrays: dict, description: str) -> Discretization:
     K = _unpacked_csr("K", arrays)
     K.has_sorted_indices = True   # as dolfinx_adapter made it (sorted before it was stored)
-    return Discretization(level=level, coordinates=arrays["coordinates"], stiffness=K,
-                          mass=arrays["mass"],
-                          face_area={tag: arrays[f"face_{tag}"] for tag in faces},
+    return Discretization(description=description, coordinates=arrays["coordinates"],
+                          stiffness=K, mass=arrays["mass"],
+                          face_area={str(name): arrays[f"area_{name}"] for name in arrays["groups"]},
                           volume=float(arrays["volume"]), cells=arrays["cells"],
-                          cell_stress=_unpacked_csr("S", arrays))
+                          cell_stress=_unpacked_csr("S", arrays),
+                          cell_type=int(arrays["cell_type"]))
 
 
-def block(comm, size, level, E, nu, density, faces) -> Discretization:
-    """assembly.assemble_block's Discretization, from the cache when it holds it
-    (``comm`` None: MPI.COMM_SELF, started only if DOLFINx is needed)."""
-    faces = tuple(faces)
-    parts = _block_parts(size, level, E, nu, density, faces)
+def body(comm, body_mesh, E, nu, density, groups, source=None) -> Discretization:
+    """assembly.assemble_body's Discretization of ``body_mesh`` (a meshes.BodyMesh), from
+    the cache when it holds it (``comm`` None: MPI.COMM_SELF, started only if DOLFINx is
+    needed). ``source``: what the mesh was made from (a dict), remembered as leading to
+    this entry (holds_source)."""
+    groups = tuple(groups)
+    parts = body_parts(body_mesh, E, nu, density, groups)
 
     def build():
-        return _packed(assemble_block(dolfinx_adapter.communicator(comm), size, level, E, nu,
-                                      density, faces), faces)
+        return _packed(assemble_body(dolfinx_adapter.communicator(comm), body_mesh, E, nu,
+                                     density, groups))
 
-    return _unpacked(cached("block", parts, build), level, faces)
+    disc = _unpacked(cached("body", parts, build), body_mesh.description)
+    if source is not None and enabled():
+        alias = entry_path("source", {**source, "dolfinx": dolfinx_version()})
+        name = entry_path("body", parts).name.encode()
+        if disk_cache.read_entry(alias) != name:
+            disk_cache.write_entry(alias, name)
+            disk_cache.prune(alias.parent, "source-*.npz", SOURCES_KEPT)
+    return disc
 
 
-def _block_parts(size, level, E, nu, density, faces) -> dict:
-    """What a block's entry is computed from (its key)."""
-    return {"size": [float(s) for s in size], "level": level, "E": float(E), "nu": float(nu),
-            "density": float(density), "faces": list(faces), "dolfinx": dolfinx_version()}
+# Source entries kept (each a few bytes): those of the kept bodies, at every level
+SOURCES_KEPT = 8 * KEPT_ENTRIES
 
 
-def cached_levels(size, E, nu, density, faces) -> list[str]:
-    """The refinement levels (meshes.LEVELS) whose block of these inputs the cache holds."""
+def holds_source(source) -> bool:
+    """Whether the cache holds the body entry that ``source`` was last built into."""
     if not enabled():
-        return []
-    return [level for level in LEVELS
-            if entry_path("block", _block_parts(size, level, E, nu, density, tuple(faces))).exists()]
+        return False
+    name = disk_cache.read_entry(entry_path("source", {**source, "dolfinx": dolfinx_version()}))
+    return name is not None and (directory() / name.decode()).exists()
+
+
+def body_parts(body_mesh, E, nu, density, groups) -> dict:
+    """What a body's entry is computed from (its key)."""
+    return {"mesh": body_mesh.key, "tags": {name: body_mesh.tag(name) for name in groups},
+            "E": float(E), "nu": float(nu), "density": float(density), "groups": list(groups),
+            "dolfinx": dolfinx_version()}

@@ -1,57 +1,95 @@
-"""The static preload: the block pressed on the base before anything moves.
+"""The static preload: the body pressed on the base before anything moves.
 
-Starting the dynamics from an unloaded block with the loads applied at once
+Starting the dynamics from an unloaded body with the loads applied at once
 sets it ringing on its contact (docs/model.md "Traps measured": the normal
 force swung 44-69 N instead of 55 N). Instead every run starts from the static
-equilibrium of the normal load on the penalty springs:
+equilibrium of the normal load on the penalty springs of the nodes in contact:
 
-    (K + K_pen) u0 = f,     K_pen = diag(k_pen w_i) on the Z dofs of the contact nodes
+    (K + K_pen(C)) u0 = f - K_pen(C) g0,    K_pen(C) = diag(k_pen,i, i in C) on the Z dofs
 
-with v = 0, the asperities at rest and the drive spring unstretched. The
-contact is frictionless during the preload (the asperities start undeformed,
-as the lumped model's), so the only loads are in Z; the three in-plane rigid
-motions (X, Y, rotation about Z) that K + K_pen leaves free carry no load and
-are pinned by tangential springs REGULARIZATION times weaker than the contact
-stiffness k_t, which changes u0 by a relative ~1e-12.
+C the contact patch (the active set), g0 the candidates' initial gaps (their heights
+at rest, 0 on the block's face): node i in C is pushed up by N_i = -k_pen,i g_i with
+g_i = g0_i + u_z,i its gap, every other node carries nothing. The patch is found by
+a primal-dual active set iteration (Hintermueller, Ito and Kunisch, SIAM J. Optim.
+13 (2003) 865, a semi-smooth Newton method): start from every candidate in C; after
+each solve drop the nodes of C that would pull (g_i > 0) and add those outside it
+that penetrate (g_i < 0), until neither is left. On the block every node starts in
+C and stays. On a curved body the first solve pulls every candidate down onto the
+base, a patch that holds the body as the block's face does; the patch then shrinks
+to the nodes in compression, symmetric as the body and its load are. Started from
+the nodes touching at rest (a ball's pole alone), the first solve has nothing but
+the weak springs below against the body's rocking (a rotation of radians from the
+mesh's asymmetry), and the patches that follow swing from side to side.
+A patch of one or a few nodes, where the mesh is coarse against the contact's true
+size (a ball's Hertz radius), holds the body's rocking about it only by the weak
+springs below: the body rocks from one side of it to the other and the set cycles;
+the preload then stops at the first patch that comes back (PatchUnresolved: refine
+the mesh there).
 
-A node that would be pulled (u_z > 0) is taken out of contact and the solve
-repeated until the active set settles. The static reaction sum_i N_i must
-equal the applied normal load F_N to solver precision.
+The contact is frictionless during the preload (the asperities start undeformed,
+as the lumped model's), so the only loads are in Z. The in-plane rigid motions
+(X, Y, rotation about Z) that K + K_pen leaves free carry no load and are pinned by
+tangential springs on every candidate REGULARIZATION times weaker than the contact
+stiffness k_t, which changes u0 by a relative ~1e-12. On a curved body (a ball on
+its pole) the same springs, at the candidates' different heights, also hold the
+rocking (rotations about X and Y) that a patch of one or a few nodes does not;
+once the patch has grown, its springs hold it. The drive spring is unstretched and
+v = 0.
+
+The static reaction sum_i N_i must equal the applied normal load F_N to solver
+precision.
 """
 
 import numpy as np
 import scipy.sparse as sp
 
-from ...core.errors import NormalLoadTooSmall
+from ...core.errors import NormalLoadTooSmall, PatchUnresolved
 from .linalg import symmetric_lu
 
 REGULARIZATION = 1e-9
 RELATIVE_TOLERANCE = 1e-8  # on sum N_i = F_N: a direct solve gives ~1e-12
 
 
-def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, order=None):
-    """Return (u0, normal): the static displacement (dofs,) and contact forces (n,).
+def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, order=None,
+                   initial_gap=None):
+    """Return (u0, normal, in_contact): the static displacement (dofs,), the contact
+    forces (n,) and the contact patch (n,) bool.
 
-    ``order``: the DOFs' elimination order for the factorization (linalg.symmetric_lu).
+    ``order``: the DOFs' elimination order for the factorization (linalg.symmetric_lu);
+    ``initial_gap``: (n,) the candidates' gaps at rest, m (None: all 0, a flat face).
 
-    Raises NormalLoadTooSmall if no node stays in contact.
+    Raises NormalLoadTooSmall if no node stays in contact, PatchUnresolved if the patch
+    comes back to an earlier one (the iteration would cycle), RuntimeError if the
+    reaction does not balance F_N.
     """
     dofs = stiffness.shape[0]
+    gap0 = np.zeros(nodes.size) if initial_gap is None else np.asarray(initial_gap, dtype=float)
+    z = 3 * nodes + 2
     active = np.ones(nodes.size, dtype=bool)
-    for _ in range(nodes.size + 1):
+    seen = set()
+    while True:
+        seen.add(active.tobytes())
         springs = np.zeros(dofs)
-        springs[3 * nodes[active] + 2] = penalty_share[active]
+        springs[z[active]] = penalty_share[active]
         springs[3 * nodes] = springs[3 * nodes + 1] = REGULARIZATION * k_t * area_share
-        u0 = symmetric_lu(stiffness + sp.diags(springs), order).solve(load)
-        gap = u0[3 * nodes + 2]
+        force = load.copy()
+        force[z[active]] -= penalty_share[active] * gap0[active]  # 0 on a flat face: f itself
+        u0 = symmetric_lu(stiffness + sp.diags(springs), order).solve(force)
+        gap = gap0 + u0[z]
         lifted = active & (gap > 0.0)
-        if not lifted.any():
+        touching = ~active & (gap < 0.0)
+        if not (lifted.any() or touching.any()):
             break
-        active &= ~lifted
+        active = (active & ~lifted) | touching
         if not active.any():
             raise NormalLoadTooSmall("no contact node stays on the base under the preload")
+        if active.tobytes() in seen:
+            raise PatchUnresolved(
+                f"the preload's contact patch does not settle (it came back to one of {len(seen)} "
+                f"earlier patches, of {int(active.sum())} nodes): a patch of a few nodes does not "
+                "hold the body's rocking; refine the mesh where it touches the base")
     normal = np.where(active, penalty_share * np.maximum(-gap, 0.0), 0.0)
     if not np.isclose(normal.sum(), F_N, rtol=RELATIVE_TOLERANCE, atol=0.0):
         raise RuntimeError(f"the static normal reaction {normal.sum():.12g} N does not balance "
                            f"F_N = {F_N} N: the preload solve failed")
-    return u0, normal
+    return u0, normal, active

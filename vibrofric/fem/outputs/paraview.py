@@ -1,4 +1,4 @@
-"""ParaView output: a .pvd time series of the block's node and cell fields.
+"""ParaView output: a .pvd time series of the body's node and cell fields.
 
 Every frame holds, on the mesh's Q1 nodes (point data):
 
@@ -11,9 +11,15 @@ Every frame holds, on the mesh's Q1 nodes (point data):
     asperity_deformation  the law's elastic deformation (vector, m; Dahl, LuGre: s_i e_i = N' - M)
     slip               (u_x - u0_x - x_b, u_y - u0_y - y_b) (vector, m): the node's
                        displacement relative to the base since the preload
+    gap                g_i = g0_i + u_z,i - z_b (m) on the contact candidates, g0_i their
+                       height at rest (FEModel.initial_gap), z_b the base's Z (0 where it
+                       moves only in its plane); negative: the penalty's penetration. 0
+                       elsewhere
+    contact_state      0 open, 1 stick, 2 slip on the candidates (outputs/contact_patch.py:
+                       slip once |F_i| >= 0.98 mu N_i), 0 elsewhere
 
 (the contact fields are in the XY plane, their Z components 0; paper sign:
-F_i acts on the body as -F_i), and on its hexahedra (cell data: each cell's mean,
+F_i acts on the body as -F_i), and on its cells (cell data: each cell's mean,
 the DG0 projection of sigma(u) of model/dolfinx_adapter.cell_stress):
 
     stress             the Cauchy stress tensor sigma (9 components, Pa; tension positive),
@@ -27,9 +33,9 @@ its table to FIELDS and CELL_FIELDS. The frame time is the simulated time (a run
 answered by its steady cycle: the cycle ending at time.T, integrators/periodic.py).
 
 The files: ``block.pvd`` lists the frames with their times, each frame one
-``blockNNNNNN.vtu`` (VTK's XML unstructured grid, binary): the block's nodes
-(assembly.Discretization.coordinates) and its hexahedra (``cells``, the nodes
-in VTK's order, as DOLFINx's plot module gives them), the fields above as
+``blockNNNNNN.vtu`` (VTK's XML unstructured grid, binary): the body's nodes
+(assembly.Discretization.coordinates) and its hexahedra or tetrahedra (``cells``,
+the nodes in VTK's order, as DOLFINx's plot module gives them), the fields above as
 point data. What DOLFINx's own VTKFile wrote for the same run holds the same
 points, cells and arrays (tests/test_dolfinx_adapter.py); writing from the
 arrays needs no DOLFINx, so a run from the model cache never loads it.
@@ -47,18 +53,22 @@ from pathlib import Path
 
 import numpy as np
 
+from .contact_patch import contact_state
+
 FIELDS = ("displacement", "velocity", "contact_pressure", "friction_traction",
-          "friction_force", "asperity_deformation", "slip")
+          "friction_force", "asperity_deformation", "slip", "gap", "contact_state")
+SCALAR_FIELDS = ("contact_pressure", "gap", "contact_state")
 CELL_FIELDS = ("stress", "von_mises", "normal_stress")
 
 
 def node_fields(model, state) -> dict:
-    """The frame's fields as numpy arrays on the nodes: vectors (nodes, 3), contact_pressure (nodes,).
+    """The frame's fields as numpy arrays on the nodes: vectors (nodes, 3), the
+    SCALAR_FIELDS (nodes,).
 
     Plain numpy: FEResult.fields holds these for the run's last step.
     """
     nodes, c = model.disc.nodes, model.contact_nodes
-    out = {name: np.zeros((nodes, 3)) for name in FIELDS if name != "contact_pressure"}
+    out = {name: np.zeros((nodes, 3)) for name in FIELDS if name not in SCALAR_FIELDS}
     out["displacement"][:] = state.u.reshape(-1, 3)
     out["velocity"][:] = state.v.reshape(-1, 3)
     out["friction_force"][c, :2] = state.friction
@@ -70,6 +80,13 @@ def node_fields(model, state) -> dict:
     pressure = np.zeros(nodes)
     pressure[c] = state.normal / model.contact_area
     out["contact_pressure"] = pressure
+    gap = np.zeros(nodes)
+    # the base's Z displacement: a State of a base moving in its plane only has none
+    gap[c] = model.initial_gap + state.u[3 * c + 2] - getattr(state, "z_b", 0.0)
+    out["gap"] = gap
+    states = np.zeros(nodes)
+    states[c] = contact_state(state.normal, state.friction, model.friction_coefficient)
+    out["contact_state"] = states
     return out
 
 
@@ -113,7 +130,8 @@ class FrameWriter:
         name = f"{self.path.stem}{self.frames:06d}.vtu"
         (self.path.parent / name).write_text(vtu_text(disc.coordinates, disc.cells,
                                                       node_fields(self.model, state),
-                                                      cell_fields(self.model, state)))
+                                                      cell_fields(self.model, state),
+                                                      disc.cell_type))
         self.times.append((state.t, name))
         self.frames += 1
 
@@ -130,6 +148,7 @@ def quoteattr(text: str) -> str:
 
 
 VTK_HEXAHEDRON = 12  # VTK's cell type of the linear hexahedron (8 corners in VTK's order)
+VTK_TETRAHEDRON = 10  # and of the linear tetrahedron (4 corners)
 
 
 def _data_array(values: np.ndarray, vtk_type: str, name: str, components: int = 1) -> str:
@@ -153,8 +172,9 @@ def _data_arrays(data: dict) -> str:
 
 
 def vtu_text(points: np.ndarray, cells: np.ndarray, point_data: dict,
-             cell_data: dict | None = None) -> str:
-    """A .vtu (VTK XML unstructured grid) of hexahedra ``cells`` (cells, 8) over
+             cell_data: dict | None = None, cell_type: int = VTK_HEXAHEDRON) -> str:
+    """A .vtu (VTK XML unstructured grid) of ``cells`` (cells, corners) of VTK's type
+    ``cell_type`` (VTK_HEXAHEDRON: 8 corners, VTK_TETRAHEDRON: 4) over
     ``points`` (nodes, 3), with the node arrays ``point_data`` (name: (nodes,) or
     (nodes, components)) and the cell arrays ``cell_data`` (name: (cells,) or
     (cells, components))."""
@@ -162,7 +182,7 @@ def vtu_text(points: np.ndarray, cells: np.ndarray, point_data: dict,
     fields = _data_arrays(point_data)
     cell_part = (f"<CellData>\n{_data_arrays(cell_data)}</CellData>\n" if cell_data else "")
     offsets = np.arange(1, cells.shape[0] + 1, dtype="<i8") * cells.shape[1]
-    types = np.full(cells.shape[0], VTK_HEXAHEDRON, dtype=np.uint8)
+    types = np.full(cells.shape[0], cell_type, dtype=np.uint8)
     return ('<?xml version="1.0"?>\n'
             '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
             'header_type="UInt64" compressor="vtkZLibDataCompressor">\n<UnstructuredGrid>\n'
