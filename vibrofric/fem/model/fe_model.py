@@ -72,7 +72,9 @@ class FEModel:
                                # rest, before the preload, m (its z: meshes/body.py places
                                # the lowest contact point on z = 0; the block's face is all 0)
     contact_area: np.ndarray   # (n,) tributary areas a_i, m^2
-    area_share: np.ndarray     # (n,) w_i = a_i / A, sum 1
+    area_share: np.ndarray     # (n,) w_i = a_i / A_0, A_0 the preload patch's area: each node's
+                               # share of the law's k_t and (under "nominal") of F_N; sum 1
+                               # over the patch (patch_share)
     penalty: float             # N/m, sum of penalty_share (the whole candidate surface's)
     penalty_share: np.ndarray  # (n,) k_pen,i = k_c a_i (penalty_shares)
     nominal_normal: np.ndarray  # (n,) F_N w_i under fem.normal_force "nominal", else 0
@@ -235,6 +237,20 @@ def body_source(scene, level: str) -> dict:
     return {"body": repr(scene.body), "level": level}
 
 
+def patch_share(contact_area: np.ndarray, in_contact: np.ndarray) -> np.ndarray:
+    """(n,) w_i = a_i / A_0: each candidate's tributary area over the area A_0 of the
+    preload's contact patch (``in_contact``).
+
+    The law's k_t (N/m) is the stiffness of the whole contact (docs/model.md section 1),
+    and the contact is the patch the body rests on, not every facet that might touch:
+    node i takes k_t w_i, as it takes F_N w_i under fem.normal_force = "nominal", so the
+    patch's nodes hold k_t and F_N in all, as the lumped body's one node does. A
+    candidate outside the patch that closes later takes the same stiffness per area.
+    On the block the patch is the whole face, and w_i the face's shares to the bit.
+    """
+    return contact_area / contact_area[in_contact].sum()
+
+
 def penalty_shares(scene, contact_area: np.ndarray, area_share: np.ndarray,
                    height: float, radius: float) -> tuple:
     """(k_pen, (n,) k_pen,i): each candidate's penalty stiffness k_pen,i = k_c a_i, N/m,
@@ -275,7 +291,7 @@ def _built(scene, comm) -> FEModel:
     area = disc.face_area["contact"]
     contact_nodes = np.flatnonzero(area > 0.0).astype(np.int64)
     contact_area = area[contact_nodes]
-    area_share = contact_area / contact_area.sum()
+    candidate_share = contact_area / contact_area.sum()   # of the whole candidate surface
 
     block_mass = rho * disc.volume
     load_area = disc.face_area.get("load")
@@ -285,7 +301,7 @@ def _built(scene, comm) -> FEModel:
     extent = np.ptp(disc.coordinates, axis=0)
     gap0 = initial_gap(disc.coordinates, contact_nodes)
     radius = curvature_radius(disc.coordinates[contact_nodes, :2], gap0)
-    penalty, penalty_share = penalty_shares(scene, contact_area, area_share, float(extent[2]),
+    penalty, penalty_share = penalty_shares(scene, contact_area, candidate_share, float(extent[2]),
                                             radius)
 
     attach_nodes, attach_weights = attachment(scene, disc.face_area, body_mesh.description)
@@ -293,9 +309,10 @@ def _built(scene, comm) -> FEModel:
                          if on_grid(disc.coordinates) else None)
 
     u0, normal0, in_contact0 = static_preload(
-        disc.stiffness, load, contact_nodes, penalty_share, area_share,
+        disc.stiffness, load, contact_nodes, penalty_share, candidate_share,
         scene.law_bounds.stiffness, scene.contact.F_N, elimination_order, gap0)
     check_tipping(scene, disc, contact_nodes[in_contact0], contact_area[in_contact0])
+    area_share = patch_share(contact_area, in_contact0)
 
     omega_max = stability.max_frequency(
         disc.stiffness, disc.mass, contact_nodes, penalty_share, scene.law_bounds.max_stiffness * area_share,
