@@ -94,7 +94,8 @@ def free_frequency(values, dt: float, f: float) -> float:
 class NormalSwing:
     """The window's summed normal force as judged above (kind: "steady", "rocking",
     "forced" (a base moving along Z), "subharmonic" (its bouncing cycle spanning
-    SUBHARMONIC_PERIODS cycles of f; forced then at f / k) or "transient"); low/high over the whole window, forced the window's forced
+    SUBHARMONIC_PERIODS cycles of f; forced then at f / k), "bouncing" (leaving the
+    base and landing off any such cycle) or "transient"); low/high over the whole window, forced the window's forced
     fraction, end_low/end_high and end_forced over its end, free_frequency_hz the
     largest free line over the window (None where steady)."""
 
@@ -166,6 +167,11 @@ def judge(window, dt: float, f: float, F_N: float, damping: float,
         swing.kind = "forced" if moving_base else "rocking"
     elif not _swings(end, F_N) or end_forced >= FORCED_FRACTION:
         swing.kind = "transient"
+    elif moving_base and swing.end_low <= 0.0:
+        # the body leaves the base and lands again off its cycle: a bouncing body, not
+        # numerical trouble (the lumped body does the same from just above its contact-
+        # loss threshold, analytic/normal.py); kept, and reported unsettled
+        swing.kind = "bouncing"
     else:
         raise NumericalError(
             f"the summed normal force swung between {swing.end_low:.4g} and "
