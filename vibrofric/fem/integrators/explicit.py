@@ -161,7 +161,7 @@ def explicit_steps(first, last, dt,
                    contact_nodes, penalty_share, area_share, nominal, params, eta_y,
                    sliding_length, attach_nodes, attach_weights, k_d, v_d, prescribed,
                    amplitude, omega, t_on, cos_theta, sin_theta,
-                   amplitude_n, sin_n, cos_n, initial_gap, on_step, start_gain, lift,
+                   amplitude_n, sin_n, cos_n, initial_gap, on_step, start_gain, lift, face_z,
                    F_N, mu_max, normal_limit, use_energy, normal0, v_old, k_q, k_v, sums,
                    reference, u, v, work, force_sum, disp, disp_new, vel_z,
                    states, normal, friction, scalars, recorder, steady):
@@ -178,7 +178,8 @@ def explicit_steps(first, last, dt,
 
     The base along Z (amplitude_n > 0): z_b, v_zb at t_{n+1} (base_motion.normal_displacement)
     set every node's gap (contact.py); at ``on_step`` every node first moves by the
-    rigid forced response ``start_gain`` (start_motion) along ``lift``. With
+    rigid forced response ``start_gain`` (start_motion) along ``lift``, measured on the
+    contact nodes' Z (``face_z``). With
     ``use_energy`` the balance's sums (energy.py, the explicit shadow form) grow
     each step: v_old, k_q, k_v are its scratch vectors, ``normal0`` the preload's forces.
     """
@@ -198,12 +199,6 @@ def explicit_steps(first, last, dt,
         x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
         f_d = 0.0 if prescribed else k_d * (v_d * (t - dt) - x_a)
         f_d_start = f_d
-        if i == on_step and lifts_off:   # the body onto its forced response (start_motion)
-            z_on, vz_on = normal_displacement(amplitude_n, omega, sin_n, cos_n,
-                                              math.sin(omega * (t - t_on)),
-                                              math.cos(omega * (t - t_on)))
-            start_motion(u, v, lift, start_gain, z_on, vz_on, omega)
-            contact_motion(u, v, contact_nodes, disp, vel_z)
         step_forces(u, v, beta, stiffness, load, contact_nodes, friction, normal, attach_nodes,
                     attach_weights, f_d, work, force_sum)
         if use_energy:
@@ -212,6 +207,11 @@ def explicit_steps(first, last, dt,
         if prescribed:
             f_d = held_attachment(u, v, t, dt, v_d, reference, attach_nodes, attach_weights,
                                   inverse_mass, compliance)
+        if i == on_step and lifts_off:
+            # the body onto its forced response (normal_start.py): u_{n+1} at t_{n+1},
+            # v_{n+1/2} at the half step, before the contact sees the base
+            start_motion(u, v, lift, face_z, area_share, start_gain, t, dt, t_on, amplitude_n,
+                         omega, sin_n, cos_n, 0.5)
 
         # Base at t_{n+1} (eqs 23-25; along Z, base_motion.normal_displacement).
         u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
@@ -323,6 +323,7 @@ class ExplicitRun(TimeLoop):
         stiffness = bsr(model.stiffness)  # node-by-node 3x3 blocks
         sin_n, cos_n = normal_phase(scene.vibration.normal_phase_deg)
         lift = np.tile([0.0, 0.0, 1.0], dofs // 3)       # every node's Z: the rigid bounce
+        face_z = 3 * model.contact_nodes + 2             # the contact nodes' Z
         energy_vectors = [np.zeros(dofs if scene.fem.energy else 0) for _ in range(3)]
         sums = np.zeros(SUMS)
 
@@ -336,7 +337,7 @@ class ExplicitRun(TimeLoop):
                 scene.drive.prescribed,
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                 scene.vibration.normal_amplitude, sin_n, cos_n, model.initial_gap,
-                first_step_on(scene), start_gain(scene, model), lift,
+                first_step_on(scene), start_gain(scene, model), lift, face_z,
                 c.F_N, scene.mu_max, normal_force_limit(scene, model), scene.fem.energy, model.normal0, *energy_vectors, sums,
                 model.u0, u, v, work, force_sum, disp, disp_new, vel_z,
                 contact.state, contact.normal, contact.friction,

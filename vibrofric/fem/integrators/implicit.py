@@ -37,7 +37,8 @@ from .contact_solve import (ITERATION_TOLERANCE, MAX_CONTRACTION, MAX_ITERATIONS
                             STALLED, ContactData, StepStart, base_over_substeps, commit_contact,
                             implicit_substeps, iterate_contact, normal_over_substeps,
                             still_substeps)
-from .normal_start import first_step_on, normal_force_limit, start_gain, start_motion
+from .normal_start import (first_step_on, normal_force_limit, restart_normal_forces,
+                           start_gain, start_motion)
 from ..model.drive import attachment_xy
 from ..outputs.energy import SUMS, add_contact_work, add_damping_and_drive_work
 from ..outputs.energy import record as record_energy, stored as energy_stored
@@ -134,6 +135,7 @@ class BaseMotion(NamedTuple):
     on_step: int            # the first step on, where the body starts on its forced
     gain: tuple             # response (normal_start.py): (Re H, Im H)
     lift: np.ndarray        # (n,) the q of every node moving by 1 in Z
+    body_mass: float        # kg
 
 
 class Drive(NamedTuple):
@@ -315,7 +317,8 @@ class ImplicitRun(TimeLoop):
         base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                           c.eta_y, scene.vibration.normal_amplitude,
                           *normal_phase(scene.vibration.normal_phase_deg),
-                          first_step_on(scene), start_gain(scene, model), lift)
+                          first_step_on(scene), start_gain(scene, model), lift,
+                          model.block_mass)
         scheme = Scheme(dt, *self.coefficients, model.beta,
                         self.iteration_tolerance * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
                         still_substeps(scene))
@@ -406,7 +409,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
      recorder) = borrowed((operators, contact, params, work, q, v, a, states, normal, friction,
                            g_prev, scalars, sums, recorder))
     amplitude, omega, t_on, cos_theta, sin_theta, eta_y = base[:6]
-    amplitude_n, sin_n, cos_n, on_step, gain, lift = base[6:]
+    amplitude_n, sin_n, cos_n, on_step, gain, lift, body_mass = base[6:]
     lifts_off = amplitude_n > 0.0
     k_d, v_d, prescribed = drive
     spring = math.inf if prescribed else k_d   # the drive spring's stiffness (energy)
@@ -421,11 +424,20 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
     stop = 0
     for i in range(first, last + 1):
         t = i * dt
-        if i == on_step and lifts_off:   # the body onto its forced response (normal_start.py)
-            phase = omega * (t - t_on)
+        if i == on_step + 1 and lifts_off:
+            # the state at t_n, the first step on: onto the body's forced response
+            # (normal_start.py), its contact forces afresh
+            start_motion(q, v, lift, operators.contact_dofs[:, 2], contact.area_share, gain,
+                         t - dt, dt, t_on, amplitude_n, omega, sin_n, cos_n, 0.0)
+            phase = omega * (t - dt - t_on)
             z_on, vz_on = normal_displacement(amplitude_n, omega, sin_n, cos_n, math.sin(phase),
                                               math.cos(phase))
-            start_motion(q, v, lift, gain, z_on, vz_on, omega)
+            change = restart_normal_forces(q, v, operators.contact_dofs, contact.u0c[:, 2],
+                                           contact.initial_gap, contact.penalty_share, beta,
+                                           z_on, vz_on, contact.tangent, contact.assumed,
+                                           normal, g_prev)
+            for k in range(a.shape[0]):      # the rigid body's acceleration by the change
+                a[k] += lift[k] * change / body_mass
         free_response(q, v, a, friction, normal, f_d_old, f_hold_old, operators, contact.normal0,
                       scheme, prescribed, work)
 

@@ -35,9 +35,11 @@ import math
 from numba import njit
 
 from ...core.base_motion import first_step_on as base_first_step_on
+from ...core.base_motion import normal_displacement
 from ...core.bounce import bounce_stiffness
 from ...core.law_limits import NORMAL_LIMIT
 from ...friction_law.contract import FASTMATH
+from ..model.contact import normal_force
 
 
 def first_step_on(scene) -> int:
@@ -77,12 +79,47 @@ def start_gain(scene, model):
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def start_motion(u, v, lift, gain, z_b, v_zb, omega):
-    """Move the body rigidly along ``lift`` (every node's Z, in the integrator's
-    coordinates) onto its forced response to the base's z_b, v_zb: z = Re H z_b +
-    Im H v_zb / w, dz/dt = Re H v_zb - Im H w z_b, gain = (Re H, Im H) (start_gain)."""
-    dz = gain[0] * z_b + gain[1] * v_zb / omega
-    dv = gain[0] * v_zb - gain[1] * omega * z_b
+def start_motion(u, v, lift, face_z, area_share, gain, t, dt, t_on, amplitude_n, omega, sin_n,
+                 cos_n, lag):
+    """Put the body, rigidly along ``lift`` (every node's Z, in the integrator's
+    coordinates), on its forced response to the base: its contact face's mean height
+    sum_i w_i u[face_z[i]] to z = Re H z_b + Im H v_zb / w at t, its mean Z velocity
+    to dz/dt = Re H v_zb - Im H w z_b at t - lag dt (lag: 1/2 for central differences'
+    half-step velocity, 0 for the implicit state), gain = (Re H, Im H) (start_gain).
+    Set, not added: whatever the base's first step did to the body (a base starting at
+    phi != 0 jumps by A_n sin phi) is replaced. The body must be at its place to a small
+    fraction of the base's amplitude: the contact turns a misplacement dz into a force
+    k_pen dz (k_pen A_n ~ 60 F_N on the stiff block of benchmarks/fe_normal_vs_lumped.py)."""
+    phase = omega * (t - t_on)
+    z_b, v_zb = normal_displacement(amplitude_n, omega, sin_n, cos_n, math.sin(phase),
+                                    math.cos(phase))
+    z_lag, v_lag = normal_displacement(amplitude_n, omega, sin_n, cos_n,
+                                       math.sin(phase - omega * lag * dt),
+                                       math.cos(phase - omega * lag * dt))
+    z_face = v_face = 0.0
+    for c in range(face_z.shape[0]):
+        z_face += area_share[c] * u[face_z[c]]
+        v_face += area_share[c] * v[face_z[c]]
+    dz = gain[0] * z_b + gain[1] * v_zb / omega - z_face
+    dv = gain[0] * v_lag - gain[1] * omega * z_lag - v_face
     for k in range(u.shape[0]):
         u[k] += lift[k] * dz
         v[k] += lift[k] * dv
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def restart_normal_forces(q, v, contact_dofs, u0_z, initial_gap, penalty_share, beta, z_b, v_zb,
+                          tangent, assumed, normal, g_prev):
+    """The contact nodes' normal forces at a state just moved (start_motion), against
+    the base at z_b, v_zb (contact.normal_force), and the implicit contact iteration's
+    first iterate g_z = N + l q_z (contact_solve._contact_g) with them. Returns the
+    summed normal force's change (N): the body's acceleration changes by it over its mass."""
+    change = 0.0
+    for c in range(contact_dofs.shape[0]):
+        iz = contact_dofs[c, 2]
+        gap = initial_gap[c] + (u0_z[c] + q[iz]) - z_b
+        before = normal[c]
+        normal[c] = normal_force(gap, v[iz] - v_zb, penalty_share[c], beta)
+        change += normal[c] - before
+        g_prev[3 * c + 2] = normal[c] + tangent[3 * c + 2] * assumed[c] * q[iz]
+    return change
