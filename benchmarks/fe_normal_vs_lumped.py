@@ -23,7 +23,7 @@ reduced integrator (the stiff block's explicit stable step is ten times shorter)
 cycles. (Stepped for 60 cycles from 5 ms of sliding, the drive spring's slow mode,
 0.984 a cycle, had not settled: the in-plane case alone differed by 10%.)
 
-    .venv/bin/python benchmarks/fe_normal_vs_lumped.py [--mesh coarse] [--cycles 800]
+    .venv/bin/python benchmarks/fe_normal_vs_lumped.py [--mesh coarse] [--cycles 800] [--stiffer 100]
 
 prints a markdown table: each model's F_dv/F_d0, their relative difference, each
 one's contact_loss_fraction and summed normal force's range, and the FE judgement.
@@ -49,11 +49,12 @@ CASES = (("no normal motion", 0.0, None, 6.0, {}),
          ("contact lost", 1.2, None, 6.0, {}))
 
 
-def stiff_scene(mesh: str, cycles: int, **keys):
-    """The longitudinal scene on the stiff block, penalty and lumped k_n matched."""
+def stiff_scene(mesh: str, cycles: int, stiffer: float = STIFFER, **keys):
+    """The longitudinal scene on the block ``stiffer`` times stiffer, penalty and lumped
+    k_n matched."""
     base = load_scene("longitudinal")
     body = base.body
-    E = STIFFER * body.E
+    E = stiffer * body.E
     penalty = default_penalty(body.E, body.size)
     rho = body.mass / math.prod(body.size)
     k_n = bounce_stiffness(body.mass, E, rho, body.size, penalty)
@@ -76,10 +77,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mesh", default="coarse")
     parser.add_argument("--cycles", type=int, default=800)
+    parser.add_argument("--stiffer", type=float, default=STIFFER)
     args = parser.parse_args()
-    probe = stiff_scene(args.mesh, args.cycles)
+    probe = stiff_scene(args.mesh, args.cycles, args.stiffer)
     a_th = threshold(probe)
-    print(f"Stiff block (E x {STIFFER:g}), fem.penalty {probe.fem.penalty:.4g} N/m, contact.k_n "
+    print(f"Stiff block (E x {args.stiffer:g}), fem.penalty {probe.fem.penalty:.4g} N/m, contact.k_n "
           f"{probe.normal_stiffness:.4g} N/m, A_th = {a_th:.3g} m; mesh {args.mesh}, reduced at "
           f"{1 / (100 * probe.vibration.f):.3g} s, lumped at {probe.time.dt:g} s; "
           f"T = t_on + {args.cycles} cycles, the last {AVERAGED} averaged; {platform.node()}")
@@ -92,7 +94,7 @@ def main() -> None:
         keys = {"vibration.normal_amplitude": level * a_th, "vibration.k_v": k_v, **extra}
         if phase is not None:
             keys["vibration.normal_phase_deg"] = phase
-        lumped_scene = stiff_scene(args.mesh, args.cycles, **keys)
+        lumped_scene = stiff_scene(args.mesh, args.cycles, args.stiffer, **keys)
         try:
             _, lumped = solve(lumped_scene.with_values({"time.method": "transient"}))
         except Exception as trouble:     # a failed run is a row of the table

@@ -368,14 +368,18 @@ def base_over_substeps(t, dt, u_base, amplitude, omega, t_on, cos_theta, sin_the
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
-def normal_over_substeps(t, dt, amplitude_n, omega, t_on, sin_n, cos_n, base_z, base_vz):
+def normal_over_substeps(t, dt, amplitude_n, omega, t_on, t_from, sin_n, cos_n, base_z,
+                         base_vz):
     """The base's Z and Z velocity at each sub-step's end (base_motion.normal_displacement
-    on its exact sinusoid), 0 before t_on, over the first len(base_z) entries."""
+    on its exact sinusoid), over the first len(base_z) entries: from t_from, the start
+    of the step whose end is the first at or past t_on (normal_start.py: the body
+    starts there on its forced response; the base's sinusoid taken on up to a step
+    before t_on, so that it does not jump within the step), 0 before."""
     m = base_z.shape[0]
     for j in range(m):
         t_j = t - dt + (j + 1) * dt / m
         base_z[j] = base_vz[j] = 0.0
-        if amplitude_n > 0.0 and t_j >= t_on:
+        if amplitude_n > 0.0 and t_j > t_from:
             phase = omega * (t_j - t_on)
             base_z[j], base_vz[j] = normal_displacement(amplitude_n, omega, sin_n, cos_n,
                                                         math.sin(phase), math.cos(phase))

@@ -424,9 +424,10 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
     stop = 0
     for i in range(first, last + 1):
         t = i * dt
-        if i == on_step + 1 and lifts_off:
-            # the state at t_n, the first step on: onto the body's forced response
-            # (normal_start.py), its contact forces afresh
+        if i == on_step and lifts_off:
+            # the state at t_n, a step before the first step on: onto the body's forced
+            # response to the base's sinusoid there (normal_start.py), its contact
+            # forces afresh; the base moves along it from t_n (normal_over_substeps)
             start_motion(q, v, lift, operators.contact_dofs[:, 2], contact.area_share, gain,
                          t - dt, dt, t_on, amplitude_n, omega, sin_n, cos_n, 0.0)
             phase = omega * (t - dt - t_on)
@@ -438,6 +439,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
                                            normal, g_prev)
             for k in range(a.shape[0]):      # the rigid body's acceleration by the change
                 a[k] += lift[k] * change / body_mass
+            zb = z_on
         free_response(q, v, a, friction, normal, f_d_old, f_hold_old, operators, contact.normal0,
                       scheme, prescribed, work)
 
@@ -450,8 +452,8 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         m = work.base_dx.shape[0] if t > t_on else scheme.still_substeps
         base_over_substeps(t, dt, u_base, amplitude, omega, t_on, cos_theta, sin_theta, eta_y,
                            work.base_dx[:m], work.base_free[:m])
-        normal_over_substeps(t, dt, amplitude_n, omega, t_on, sin_n, cos_n, work.base_z[:m],
-                             work.base_vz[:m])
+        normal_over_substeps(t, dt, amplitude_n, omega, t_on, (on_step - 1) * dt, sin_n, cos_n,
+                             work.base_z[:m], work.base_vz[:m])
         step = StepStart(q, v, work.vt, work.qt, work.base_dx[:m], work.base_free[:m],
                          work.base_z[:m], work.base_vz[:m])
         zb_new = work.base_z[m - 1]

@@ -7,8 +7,13 @@ freely on its contact at its bounce frequency w_b, by about k_b A_n r / |1 - r^2
 lumped body: on the paper's block, r = 0.18, that free bounce alone lost contact
 at half the forced threshold, and a bouncing orbit was a second attractor). So, as
 the lumped model does (analytic/normal.py start_gain), the body starts on its
-forced response in contact: at the first step on (first_step_on) every node moves
-rigidly by
+forced response in contact: the explicit integrator at the state of the first step
+on (first_step_on, its time t_1 >= t_on: u at t_1 and v at t_1 - dt/2, before the
+contact sees the base), the implicit ones at the state a step before (t_1 - dt, their
+base then moving along its sinusoid from there, not jumping within the step; the
+nodes' normal forces set afresh), the body's contact face is put, rigidly (every node
+moved alike in Z), on
+
 
     z = H z_b,   dz/dt = H dz_b/dt,   H = 1 / (1 - (w / w_b)^2)
 

@@ -24,7 +24,7 @@ _WHAT = {
     FRICTION_DIVERGED: f"the summed friction force exceeded {DIVERGED} times its Coulomb limit "
                        "(a diverging asperity update)",
     NORMAL_BLOWUP: f"the summed normal force exceeded {NORMAL_LIMIT} F_N (with a base moving "
-                   "along Z, {NORMAL_LIMIT} times F_N plus the impact at the base's speed)",
+                   f"along Z, {NORMAL_LIMIT} times F_N plus the impact at the base's speed)",
     LIFT_OFF: "the block lost contact with the base (summed normal force 0)",
     NOT_CONVERGED: "the contact iteration of the step did not converge (nodes lifting off and "
                    "touching down within the step: the block is bouncing on its contact, or "
