@@ -472,11 +472,10 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         if use_energy:
             add_damping_and_drive_work(q, work.q_new, operators.stiffness, beta, dt, t, f_d,
                                        f_d_old, alpha_f, v_d, prescribed, work.x1, work.r1, sums)
-            add_contact_work(q, work.q_new, operators.contact_dofs, contact.u0c[:, 2],
-                             contact.initial_gap, contact.penalty_share,
+            add_contact_work(q, work.q_new, operators.contact_dofs, contact.penalty_share,
                              contact.area_share, params, states, work.trial_state, friction,
                              work.force_t, normal, work.normal_t, alpha_f, dx_b, eta_y * dy_b,
-                             zb, zb_new, sums)
+                             zb, zb_new, beta, dt, sums)
         newmark_update(q, v, a, work.q_new, work.qt, work.vt, beta_n, gamma, dt)
         magnitude = commit_contact(states, normal, friction, work)
         xb, yb = xb_new, yb_new

@@ -9,6 +9,7 @@ over the step (generalized-alpha: F_bar = (1 - alpha_f) F_{n+1} + alpha_f F_n):
     W_drive  += F_d,bar v_d dt                 the drive point B pulling the spring (eq 17)
     W_base   += sum_i -F_i,bar . db            the base carrying the asperities' free ends,
                                                db = (dx_b, eta_y dy_b) (phase 1 and eq 30)
+              + sum_i N_i,bar dz_b             and pushing the nodes up as it moves along Z
 
 What is stored, at every recorded row:
 
@@ -19,9 +20,10 @@ What is stored, at every recorded row:
           + sum_i E_law,i                      the friction law's stored energy (Dahl:
                                                k_t w_i s_i^2 / 2, eq 1)
 
-    E_pen,i = N0_i q_z + k_i max(0, -u_z)^2 / 2 - k_i u0_z^2 / 2   (u_z = u0_z + q_z,
-    k_i = k_pen w_i, N0_i = -k_i u0_z the preload reaction): 1/2 k_i q_z^2 while in
-    contact, and >= 0 always (the preload minimizes the convex potential).
+    E_pen,i = N0_i q_z + k_i max(0, -g)^2 / 2 - k_i max(0, -g0)^2 / 2   (the gap
+    g = g0_i + u0_z + q_z - z_b, contact.py, g0 = g0_i + u0_z at the preload; k_i =
+    k_pen w_i, N0_i the preload reaction): 1/2 k_i q_z^2 while in contact on a base at
+    rest, and >= 0 always (the preload minimizes the convex potential).
 
 What is dissipated, per step:
 
@@ -30,8 +32,9 @@ What is dissipated, per step:
               slip work (paper Fig. 1: N' moves by du_i, M is carried by db
               and slides); >= 0 for the Dahl law (k |v_r| s^2 / s_c per unit time)
     D_damp += beta dq^T K dq / dt              Rayleigh damping C = beta K of the block
-            + sum_i beta k_i dq_z,i^2 / dt     the penalty dashpots, on the nodes in
+            + sum_i beta k_i dg_i^2 / dt       the penalty dashpots, on the nodes in
                                                contact at both ends of the step
+                                               (dg = dq_z - dz_b)
               (both >= 0: the dampers' work at the step's mean velocity dq / dt)
 
 For the trapezoidal rule (fem.rho_infinity = 1: alpha_m = alpha_f = 1/2,
@@ -71,21 +74,15 @@ def penalty_energy(q_z, u0_z, normal0, penalty, gap0, z_b):
     return normal0 * q_z + 0.5 * penalty * (gap * gap - rest * rest)
 
 
-@njit(cache=True, error_model="numpy")
-def penalty_spring(q_z, u0_z, penalty, gap0, z_b):
-    """S_i = k_i max(0, -g_i): the penalty spring's push, without its dashpot."""
-    return penalty * max(0.0, -(gap0 + u0_z + q_z - z_b))
-
 
 @law_kernel(cache=True, error_model="numpy")
-def add_contact_work(q_old, q_new, contact_dofs, u0_z, initial_gap, penalty_share, area_share,
-                     params, states_old, states_new, force_old, force_new, normal_old,
-                     normal_new, alpha_f, db_x, db_y, z_b, z_b_new, sums):
+def add_contact_work(q_old, q_new, contact_dofs, penalty_share, area_share, params,
+                     states_old, states_new, force_old, force_new, normal_old, normal_new,
+                     alpha_f, db_x, db_y, z_b, z_b_new, beta, dt, sums):
     """Add one step's base work, friction and penalty-dashpot dissipation to ``sums``.
 
     q_old, q_new        the coordinates at the start and end of the step
     contact_dofs        (n, 3) each contact node's X, Y, Z index in q
-    u0_z, initial_gap   (n,) each node's preload Z displacement and height at rest
     area_share          (n,) w_i; params the law's parameters
     z_b, z_b_new        the base's Z at the start and end of the step
     states_old, _new    (n, STATE_SIZE) the law's states at both ends
@@ -100,15 +97,12 @@ def add_contact_work(q_old, q_new, contact_dofs, u0_z, initial_gap, penalty_shar
         sums[SUM_D_FRIC] += (fx * (q_new[ix] - q_old[ix] - db_x) + fy * (q_new[iy] - q_old[iy] - db_y)
                          - law_energy(states_new[c], params, area_share[c])  # noqa: F821
                          + law_energy(states_old[c], params, area_share[c]))  # noqa: F821
-        # the normal force's work: the base's through dz_b, the penalty spring's (stored,
-        # E_pen) and its dashpot's (what N_i adds to the spring's push S_i) through dg
-        k_i = penalty_share[c]
-        n_bar = a * normal_new[c] + alpha_f * normal_old[c]
-        s_bar = (a * penalty_spring(q_new[iz], u0_z[c], k_i, initial_gap[c], z_b_new)
-                 + alpha_f * penalty_spring(q_old[iz], u0_z[c], k_i, initial_gap[c], z_b))
+        # the normal force's work: the base's through dz_b; the penalty dashpot's on the
+        # gap's change dg = dq_z - dz_b, on the nodes in contact at both ends of the step
         dz_b = z_b_new - z_b
-        sums[SUM_W_BASE] += n_bar * dz_b
-        sums[SUM_D_DAMP] -= (n_bar - s_bar) * (q_new[iz] - q_old[iz] - dz_b)
+        sums[SUM_W_BASE] += (a * normal_new[c] + alpha_f * normal_old[c]) * dz_b
+        if normal_old[c] > 0.0 and normal_new[c] > 0.0:
+            sums[SUM_D_DAMP] += beta * penalty_share[c] * (q_new[iz] - q_old[iz] - dz_b) ** 2 / dt
 
 
 @law_kernel(cache=True, error_model="numpy")
