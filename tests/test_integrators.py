@@ -439,7 +439,7 @@ def test_auto_picks_the_cheapest_that_meets_the_accuracy_and_says_why(overrides,
 
 
 @pytest.mark.parametrize("overrides, key", [
-    (['fem.integrator="explicit"', "fem.energy=true"], "fem.energy"),
+    (['fem.integrator="explicit"', "fem.energy=true", 'drive.mode="velocity"'], "fem.energy"),
     # LuGre's dampings at a long step: the contact iteration could not converge
     (['fem.integrator="implicit"', "time.dt=1e-5", 'contact.law="lugre"', "contact.h_t=2e4"],
      "time.dt"),                                             # (estimated contraction 0.8)

@@ -386,7 +386,8 @@ def test_fe_node_reproduces_lumped_forces(name, overrides, contact):
             new = np.array([[lumped.x[i], lumped.y[i], -F_N]])
             # k_pen w = 1 N/m, so u_z = -F_N gives N = F_N exactly
             total = node(old, new, np.zeros(1), lumped.x_b[i] - xb, lumped.y_b[i] - yb,
-                         scene.contact.eta_y, np.ones(1), np.ones(1), nominal, 0.0,
+                         scene.contact.eta_y, np.zeros(1), 0.0, 0.0, np.ones(1), np.ones(1),
+                         nominal, 0.0,
                          law.params, scene.time.dt, math.inf, state, normal, force)
             assert total[0] == F_N
             fe[i] = total[1:]

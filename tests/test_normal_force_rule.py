@@ -47,7 +47,8 @@ def test_each_nodes_law_sees_its_penalty_force_or_its_nominal_share(rule):
     states = law.law.initial_state(6)
     normal, friction = np.empty(6), np.empty((6, 2))
     kernel = contact_forces.for_law(law.law)
-    kernel(disp_old, disp_new, np.zeros(6), 0.0, 0.0, scene.contact.eta_y, penalty_share,
+    kernel(disp_old, disp_new, np.zeros(6), 0.0, 0.0, scene.contact.eta_y, np.zeros(6), 0.0, 0.0,
+           penalty_share,
            area_share, nominal, 0.0, law.params, scene.time.dt, np.inf, states, normal,
            friction)
     penalty = penalty_share * np.maximum(0.0, -disp_new[:, 2])

@@ -84,6 +84,15 @@ def fe_beside_analytic(scene, directory, comm=None, progress=None,
     return done
 
 
+# The FE run's keys the summary's fe block takes as they are (fem/simulate.py): the
+# normal force over the steady cycle (the interface's keys) and, with fem.energy, the
+# energy balance's closure over it (fem/outputs/energy.py energy_closure).
+FE_NORMAL_KEYS = ("contact_loss_fraction", "normal_force_mean", "normal_force_min",
+                  "normal_force_max")
+FE_ENERGY_KEYS = ("energy_closure", "energy_base_work", "energy_friction_dissipation",
+                  "energy_damping_dissipation")
+
+
 def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesideAnalytic:
     """Run the scene's FE model (on ``comm``, default MPI.COMM_SELF; its ParaView
     frames into ``directory``/paraview if fem.output_every > 0) and the analytic
@@ -127,9 +136,11 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
                   "normal_force_node_swing": info["F_n_node_swing"],
                   "normal_force_rule": info["normal_force_rule"],
                   "normal_force_rule_note": rule_note(info["F_n_node_swing"],
-                                                      info["normal_force_rule"])}
-    if info["F_n_kind"] == "transient" and not answered:  # its average holds part of it
-                                                            # (fem/outputs/normal_swing.py)
+                                                      info["normal_force_rule"]),
+                  **{key: info[key] for key in FE_NORMAL_KEYS + FE_ENERGY_KEYS if key in info}}
+    if info["F_n_kind"] in ("transient", "bouncing") and not answered:
+        # its average holds part of a transient, or of an irregular bouncing
+        # (fem/outputs/normal_swing.py)
         fe_summary["settled"] = False
     document = {"fe": fe_summary, "analytic": analytic,
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}

@@ -51,14 +51,16 @@ within 1e-5 of 1 for r < 0.25.
 The default k_n: the FE block's first bounce mode on its penalty contact
 (core/bounce.py, Scene.normal_stiffness). What the lumped body still lacks: rocking (the FE
 block tips on its face under the friction's moment, its nodes' normal forces
-differ) and the block's own elastic modes beyond the first.
+differ) and the block's own elastic modes beyond the first (the FE model moves its
+base in Z too: fem/model/contact.py, docs/fe-model.md).
 """
 
 import math
 
 import numpy as np
 
-from ..core.base_motion import base_displacement, vibration_axis
+from ..core.base_motion import base_displacement, normal_displacement, vibration_axis
+from ..core.base_motion import first_step_on as base_first_step_on
 from ..core.chunks import run_in_chunks
 from ..core.law_limits import divergence_force
 from ..core.series import COLUMNS, NO_STEPS, RecordPlan, TimeSeries, full_resolution_steps
@@ -108,8 +110,7 @@ def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_thet
         xb_new, yb_new = u * cos_theta, u * sin_theta
         zb, vzb = 0.0, 0.0
         if t >= t_on:   # A_n sin(w (t - t_on) + phi) by the in-plane motion's rotated phase
-            zb = amplitude_n * (sin_phase * cos_n + cos_phase * sin_n)
-            vzb = amplitude_n * omega * (cos_phase * cos_n - sin_phase * sin_n)
+            zb, vzb = normal_displacement(amplitude_n, omega, sin_n, cos_n, sin_phase, cos_phase)
             if i == on_step:    # the first step on: the body on its forced response
                 z = gain_re * zb + gain_im * vzb / omega
                 vz = gain_re * vzb - gain_im * omega * zb
@@ -159,13 +160,7 @@ def start_gain(scene) -> tuple:
 def first_step_on(scene) -> int:
     """The first step i whose time i dt is at or past t_on (the test of
     core.base_motion.base_displacement, to the bit)."""
-    dt, t_on = scene.time.dt, scene.vibration.t_on
-    i = max(0, math.ceil(t_on / dt))
-    while i * dt < t_on:
-        i += 1
-    while i > 0 and (i - 1) * dt >= t_on:
-        i -= 1
-    return i
+    return base_first_step_on(scene.vibration.t_on, scene.time.dt)
 
 
 def contact_damping(scene) -> float:

@@ -136,7 +136,8 @@ def explicit_parts(run) -> list:
     normal, friction = model.normal0.copy(), np.zeros((contacts, 2))
     vel_z = np.zeros(contacts)
 
-    arguments = (disp, moved, vel_z, 0.0, 0.0, scene.contact.eta_y, model.penalty_share,
+    arguments = (disp, moved, vel_z, 0.0, 0.0, scene.contact.eta_y, model.initial_gap, 0.0, 0.0,
+                 model.penalty_share,
                  model.area_share, model.nominal_normal, beta, law.params, dt,
                  sliding_length(scene), states, normal, friction)
     friction_part = Part(f"contact and friction law ({contacts} nodes)",

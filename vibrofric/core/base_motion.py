@@ -2,14 +2,18 @@
 
     u(t)  = u0 sin(w (t - t_on))   for t >= t_on, else 0      (eq 23)
     x_b   = u cos(theta),  y_b = u sin(theta)                 (eqs 24-25)
+    z_b   = A_n sin(w (t - t_on) + phi)   for t >= t_on, else 0   (docs/model.md section 6)
 
 The same compiled functions move the base in the analytic stepper and in
-every FE integrator.
+every FE integrator; the normal motion (normal_displacement) rides on the
+in-plane motion's phase, so that the two stay in step to the bit.
 """
 
 import math
 
 from numba import njit
+
+from ..friction_law.contract import FASTMATH
 
 
 @njit(cache=True, error_model="numpy")
@@ -39,7 +43,33 @@ def base_displacement(i, dt, omega, t_on, amplitude, sin_phase, cos_phase, cos_s
     return amplitude * sin_phase, sin_phase, cos_phase
 
 
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def normal_displacement(amplitude_n, omega, sin_n, cos_n, sin_phase, cos_phase):
+    """(z_b, dz_b/dt): the base's normal motion z_b = A_n sin(w (t - t_on) + phi) and its
+    velocity from the phase (sin, cos) of w (t - t_on) that base_displacement carries
+    (sin_n, cos_n: of phi). Only for t >= t_on: the base rests before."""
+    return (amplitude_n * (sin_phase * cos_n + cos_phase * sin_n),
+            amplitude_n * omega * (cos_phase * cos_n - sin_phase * sin_n))
+
+
+def normal_phase(phase_deg) -> tuple:
+    """(sin phi, cos phi) of vibration.normal_phase_deg (None: 0)."""
+    phi = math.radians(phase_deg or 0.0)
+    return math.sin(phi), math.cos(phi)
+
+
 def vibration_axis(theta_deg: float):
     """(cos theta, sin theta), exactly 0 or +-1 on the axes (eqs 24-25)."""
     theta = math.radians(theta_deg)
     return tuple(0.0 if abs(v) < 1e-15 else v for v in (math.cos(theta), math.sin(theta)))
+
+
+def first_step_on(t_on: float, dt: float) -> int:
+    """The first step i whose time i dt is at or past t_on (base_displacement's test, to
+    the bit)."""
+    i = max(0, math.ceil(t_on / dt))
+    while i * dt < t_on:
+        i += 1
+    while i > 0 and (i - 1) * dt >= t_on:
+        i -= 1
+    return i

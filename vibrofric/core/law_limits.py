@@ -6,6 +6,10 @@ import math
 # No law reaches beyond its largest friction coefficient (friction_law.Bounds)
 # for long: a force past a few times that has diverged.
 DIVERGED = 3.0
+# A summed normal force beyond NORMAL_LIMIT times F_N is numerical divergence, not
+# physics (fem/outputs/trouble.py); a base moving along Z further into the body in one
+# step than the penalty's penetration at that force is refused (scene/validation.py).
+NORMAL_LIMIT = 10.0
 
 
 def divergence_force(scene) -> float:

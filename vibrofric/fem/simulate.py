@@ -20,9 +20,10 @@ from .integrators.cycle_map import FECycleMap
 from .model.fe_model import build_model, cached_levels
 from .model.linalg import one_blas_thread
 from .outputs.contact_patch import patch, patch_range
-from .outputs.normal_swing import judge, node_swing
+from .outputs.energy import energy_closure
+from .outputs.normal_swing import judge, node_swing, normal_force_keys
 from .outputs.paraview import FrameWriter, node_fields
-from .outputs.recording import COLUMNS, extra_columns
+from .outputs.recording import COLUMNS, scene_extra_columns
 
 
 @dataclass
@@ -167,13 +168,17 @@ def _run(scene, model, vtk_dir, progress, start, drive_force, start_time) -> FER
     finally:
         if writer is not None:
             writer.close()
-    series = TimeSeries.from_table(run.table, extra_columns(scene.fem.energy))
+    series = TimeSeries.from_table(run.table, scene_extra_columns(scene))
     swing = judge(series.extra["F_n"][-averaging_steps(scene):], scene.time.dt,
-                  scene.vibration.f, scene.contact.F_N, model.beta)
+                  scene.vibration.f, scene.contact.F_N, model.beta,
+                  scene.vibration.normal_amplitude > 0.0)
     stats = {**run.stats, "F_n_node_swing": node_swing(run.node_normals)}
     clock = Clock(setup_time, run.stats["loop_time_s"], time.perf_counter() - start_time)
     info = {**run_info(scene, model, integrator, stats, swing, writer, clock),
             **patch(model.contact_area, run.state.normal)}
+    window = averaging_steps(scene)
+    info.update(normal_force_keys(series.extra["F_n"][-window:], run.node_normals))
+    info.update(energy_closure(series, scene, window))
     if orbit is not None:
         info["periodic"] = periodic_block(orbit, scene)
     return FEResult(series=series, info=info, fields=last_fields(model, run.state), orbit=orbit)
@@ -198,7 +203,7 @@ def _answer_at(scene, model, dt, start, periodic_answer: bool, drive_force=None)
             F_dv, dt, start = float(np.mean(orbit.cycle[:, 1])), shot.time.dt, orbit.z
         else:
             run = _integrate(at, registry.select(at)(at, model), None, None)
-            F_d = TimeSeries.from_table(run.table, extra_columns(at.fem.energy)).F_d
+            F_d = TimeSeries.from_table(run.table, scene_extra_columns(at)).F_d
             F_dv, start = float(np.mean(F_d[-averaging_steps(at):])), None
     except (NumericalError, Refusal) as trouble:
         return step_error.Answer(dt, None, None, f"at {dt:.4g} s: {trouble}")
@@ -317,7 +322,7 @@ def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, sta
     shooting's."""
     cycles = max(1, math.ceil(full_resolution_steps(shot_scene) / orbit.steps))
     series = TimeSeries.from_table(periodic.steady_table(orbit, shot_scene, cycles),
-                                   extra_columns(scene.fem.energy))
+                                   scene_extra_columns(scene))
     writer = _frame_writer(scene, model, vtk_dir)
     try:
         last = periodic.cycle_frames(phi, orbit, scene.time.T, writer)
@@ -337,11 +342,13 @@ def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, sta
              "F_n_min_after_t_on": float(f_n.min()), "F_n_max_after_t_on": float(f_n.max()),
              "F_n_node_swing": node_swing(node_normals)}
     swing = judge(series.extra["F_n"][-averaging_steps(shot_scene):], shot_scene.time.dt,
-                  scene.vibration.f, scene.contact.F_N, model.beta)
+                  scene.vibration.f, scene.contact.F_N, model.beta,
+                  scene.vibration.normal_amplitude > 0.0)
     clock = Clock(setup_time, orbit.solver_time_s, time.perf_counter() - start_time)
     info = {**run_info(shot_scene, model, integrator, stats, swing, writer, clock),
             **patch(model.contact_area, last.normal),
             **patch_range(model.contact_area, node_normals)}
+    info.update(normal_force_keys(f_n, node_normals))
     info["periodic"] = periodic_block(orbit, scene)
     return FEResult(series=series, info=info, fields=last_fields(model, last), orbit=orbit)
 
@@ -428,7 +435,7 @@ def normal_force_info(scene, model, stats: dict, swing) -> dict:
     """The summed normal force: F_n_static (N, the preload's reaction), F_n_min /
     F_n_max (every step), F_n_min_after_t_on / F_n_max_after_t_on (every step from
     vibration.t_on; None without vibration), and the averaging window's as
-    normal_swing.judge found it: F_n_kind ("steady", "rocking" or "transient"; a
+    normal_swing.judge found it: F_n_kind ("steady", "rocking", "forced" or "transient"; a
     ringing run raises), F_n_min_window / F_n_max_window, F_n_forced_fraction (the
     share of the window's swing at harmonics of f), F_n_min_window_end /
     F_n_max_window_end / F_n_forced_fraction_end (the window's end),

@@ -140,7 +140,7 @@ class Vibration:
     theta_deg: float = 0.0                 # angle of the vibration axis to X
     t_on: float = 0.14                     # s, when the vibration starts
     normal_amplitude: float = 0.0          # the base's motion along Z, A_n sin(w (t - t_on) + phase);
-                                           # 0: none. Lumped model only (analytic/normal.py)
+                                           # 0: none (analytic/normal.py, fem/model/contact.py)
     normal_phase_deg: typing.Optional[float] = None  # the normal motion's phase against the
                                            # in-plane motion (90: elliptical); none: 0, and only
                                            # with a normal_amplitude

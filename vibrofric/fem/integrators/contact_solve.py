@@ -23,6 +23,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from ...core.base_motion import normal_displacement
 from ...core.law_limits import slip_resolving_step
 from ...friction_law import law_kernel
 from ...friction_law.contract import FASTMATH
@@ -72,6 +73,7 @@ class ContactData(NamedTuple):
     penalty_share: np.ndarray   # (contacts,) k_pen w_i
     area_share: np.ndarray      # (contacts,) w_i
     nominal_normal: np.ndarray  # (contacts,) what each law sees in contact (contact.nominal_normal)
+    initial_gap: np.ndarray     # (contacts,) g0_i, each node's height at rest (FEModel.initial_gap)
     tangent: np.ndarray         # (3 contacts,) l, the tangent the factorized matrix holds
     assumed: np.ndarray         # (contacts,) 1.0 where in contact at the preload
 
@@ -85,6 +87,8 @@ class StepStart(NamedTuple):
     qt: np.ndarray
     base_dx: np.ndarray         # (substeps,) the base's X increments
     base_free: np.ndarray       # (substeps,) the free end's: eta_y dy_b (eq 30)
+    base_z: np.ndarray          # (substeps,) the base's Z at each sub-step's end (0: no
+    base_vz: np.ndarray         # normal motion) and its Z velocity
 
 
 def implicit_substeps(scene) -> int:
@@ -135,14 +139,16 @@ def still_substeps(scene) -> int:
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH, forceinline=True)
-def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, contact_dofs, u0c,
-                    penalty_share, area_share, nominal, params, dt, c_v, beta, states, state):
+def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, base_z, base_vz,
+                    contact_dofs, u0c, initial_gap, penalty_share, area_share, nominal, params,
+                    dt, c_v, beta, states, state):
     """Contact node c over the step, ending at the trial displacements (qx, qy, qz).
 
     The friction law runs over the step's sub-steps (implicit_substeps): the
     node moves at its mean velocity over the step, the base along its exact
     sinusoid; the normal force's dashpot sees the velocity interpolated
-    between v_n and v_{n+1} (Newmark, from q_{n+1}). The node's law state
+    between v_n and v_{n+1} (Newmark, from q_{n+1}); the gap and the closing speed are
+    the node's against the base's Z (base_z, base_vz: contact.py). The node's law state
     starts from states[c] and ends in ``state``. Returns contact.node_contact's
     (N, F_x, F_y) at the end.
 
@@ -161,7 +167,9 @@ def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, con
     n_i = f_x = f_y = 0.0
     for j in range(1, m + 1):
         tau = j / m
-        n_i, f_x, f_y = node_contact(slip_x, slip_y, z0 + j * dz, vz0 + tau * (vz1 - vz0),
+        gap = initial_gap[c] + (z0 + j * dz) - base_z[j - 1]    # z0 + j dz to the bit at rest
+        closing = vz0 + tau * (vz1 - vz0) - base_vz[j - 1]
+        n_i, f_x, f_y = node_contact(slip_x, slip_y, gap, closing,
                                      base_dx[j - 1], base_free[j - 1], penalty_share[c],
                                      area_share[c], nominal[c], beta, params, dt / m, state)
     return n_i, f_x, f_y
@@ -182,8 +190,8 @@ def _contact_space(qc, xa, t, step, contact_dofs, contact, params, drive, scheme
     Fills g (work) with g_c = f_c + l q_c and returns (F_d, sum N, sum F_x, sum F_y);
     the trial asperity states and forces land in work (not committed).
     """
-    q_old, v_old, vt, qt, base_dx, base_free = step
-    u0c, normal0, penalty_share, area_share, nominal, tangent, assumed = contact
+    q_old, v_old, vt, qt, base_dx, base_free, base_z, base_vz = step
+    u0c, normal0, penalty_share, area_share, nominal, initial_gap, tangent, assumed = contact
     dt, c_v, beta = scheme.dt, scheme.c_v, scheme.beta
     k_d, v_d, prescribed = drive
     g, trial_state, state = work.g, work.trial_state, work.scratch_state
@@ -192,9 +200,9 @@ def _contact_space(qc, xa, t, step, contact_dofs, contact, params, drive, scheme
     for c in range(contact_dofs.shape[0]):
         qx, qy, qz = qc[3 * c], qc[3 * c + 1], qc[3 * c + 2]
         n_i, fx_i, fy_i = _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx,
-                                          base_free, contact_dofs, u0c, penalty_share,
-                                          area_share, nominal, params, dt, c_v, beta, states,
-                                          state)
+                                          base_free, base_z, base_vz, contact_dofs, u0c,
+                                          initial_gap, penalty_share, area_share, nominal,
+                                          params, dt, c_v, beta, states, state)
         for k in range(state.shape[0]):
             trial_state[c, k] = state[k]
         normal_t[c], force_t[c, 0], force_t[c, 1] = n_i, fx_i, fy_i
@@ -221,8 +229,8 @@ def newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, sc
 
         (I - (1 - af) G_SS J_SS) d_S = -rho_S,   delta = -rho + (1 - af) G_:S J_SS d_S.
     """
-    q_old, v_old, vt, qt, base_dx, base_free = step
-    u0c, normal0, penalty_share, area_share, nominal, tangent, assumed = contact
+    q_old, v_old, vt, qt, base_dx, base_free, base_z, base_vz = step
+    u0c, normal0, penalty_share, area_share, nominal, initial_gap, tangent, assumed = contact
     af1 = 1.0 - scheme.alpha_f
     g, normal_t, subset, jac = work.g, work.normal_t, work.subset, work.jac
     for p in range(rho.shape[0]):
@@ -251,8 +259,9 @@ def newton_correction(rho, delta, qc, step, G, contact_dofs, contact, params, sc
             else:
                 z += steps[2]
             n_i, f_x, f_y = _node_over_step(c, x, y, z, q_old, v_old, vt, qt, base_dx, base_free,
-                                            contact_dofs, u0c, penalty_share, area_share, nominal,
-                                            params, scheme.dt, scheme.c_v, scheme.beta, states,
+                                            base_z, base_vz, contact_dofs, u0c, initial_gap,
+                                            penalty_share, area_share, nominal, params,
+                                            scheme.dt, scheme.c_v, scheme.beta, states,
                                             work.scratch_state)
             g_c = _contact_g(c, n_i, f_x, f_y, x, y, z, tangent, assumed)
             for r in range(3):
@@ -356,6 +365,24 @@ def base_over_substeps(t, dt, u_base, amplitude, omega, t_on, cos_theta, sin_the
         base_dx[j] = (u_j - u_prev) * cos_theta
         base_free[j] = eta_y * (u_j - u_prev) * sin_theta  # phase 2: eta_y dy_b (eq 30)
         u_prev = u_j
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def normal_over_substeps(t, dt, amplitude_n, omega, t_on, t_from, sin_n, cos_n, base_z,
+                         base_vz):
+    """The base's Z and Z velocity at each sub-step's end (base_motion.normal_displacement
+    on its exact sinusoid), over the first len(base_z) entries: from t_from, the start
+    of the step whose end is the first at or past t_on (normal_start.py: the body
+    starts there on its forced response; the base's sinusoid taken on up to a step
+    before t_on, so that it does not jump within the step), 0 before."""
+    m = base_z.shape[0]
+    for j in range(m):
+        t_j = t - dt + (j + 1) * dt / m
+        base_z[j] = base_vz[j] = 0.0
+        if amplitude_n > 0.0 and t_j > t_from:
+            phase = omega * (t_j - t_on)
+            base_z[j], base_vz[j] = normal_displacement(amplitude_n, omega, sin_n, cos_n,
+                                                        math.sin(phase), math.cos(phase))
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)

@@ -29,8 +29,8 @@ import numpy as np
 
 from ...core.base_motion import vibration_axis
 from ...core.series import RecordPlan
-from ..outputs.recording import (COS, SIN, XB, YB, Recorder, columns, initial_scalars,
-                                 node_stride)
+from ..outputs.recording import (COS, SIN, XB, YB, Recorder, initial_scalars, node_stride,
+                                 scene_columns)
 from ..outputs.steady import SteadyState
 from .time_loop import ContactState
 
@@ -64,7 +64,7 @@ class FECycleMap:
         law = scene.friction.law
         self.contact = ContactState.at_preload(model, law)
         self.scalars = initial_scalars(run.extra_scalars)
-        self.recorder = Recorder(RecordPlan(steps, 1, 1), len(columns(scene.fem.energy)),
+        self.recorder = Recorder(RecordPlan(steps, 1, 1), len(scene_columns(scene)),
                                  self.contact.normal, node_stride(scene))
         steady = SteadyState(scene)
         steady.tolerance = 0.0            # never stops early

@@ -33,7 +33,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ...core.base_motion import base_displacement, vibration_axis
+from ...core.base_motion import (base_displacement, normal_displacement, normal_phase,
+                                 vibration_axis)
 from ...friction_law import law_kernel
 from ...friction_law.contract import FASTMATH
 from ...core.errors import NoEnergyBalance
@@ -44,8 +45,19 @@ from ..model.contact import SUBSTEP_ONSET, contact_forces
 from ..model.drive import attachment_position, prescribed_position
 from ..model.linalg import apply, bsr
 from ..model.fe_model import check_step
-from ..outputs.recording import COS, SIN, XB, YB, finish_step, keep_step
+from ..outputs.energy import (SUMS, energy_before_step, explicit_energy_end,
+                              explicit_energy_step)
+from ..outputs.energy import record as record_energy
+from ..outputs.recording import (COS, LOOP_SCALARS, SIN, XB, YB, finish_step, keep_step,
+                                 record_normal)
+from .normal_start import first_step_on, normal_force_limit, start_gain, start_motion
 from .time_loop import Started, TimeLoop
+
+# scalars[]: the explicit loop's own carried state, after recording's: the base's X and
+# Y a step before the last (the energy's mid-step increments), its Z at the last step
+# and the one before
+OWN_SCALARS = 4
+XB_BEFORE, YB_BEFORE, ZB, ZB_BEFORE = range(LOOP_SCALARS, LOOP_SCALARS + OWN_SCALARS)
 
 
 # The DOF-vector loops are compiled calls, not inlined into the time loop: numba's
@@ -133,13 +145,24 @@ def next_contact_start(disp, disp_new, friction):
     return magnitude
 
 
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def face_height(u, reference, contact_nodes, area_share):
+    """The contact face's mean height from the preload, sum_i w_i (u_z,i - u0_z,i)."""
+    z = 0.0
+    for c in range(contact_nodes.shape[0]):
+        d = 3 * contact_nodes[c] + 2
+        z += area_share[c] * (u[d] - reference[d])
+    return z
+
+
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def explicit_steps(first, last, dt,
                    stiffness, inverse_mass, load, beta,
                    contact_nodes, penalty_share, area_share, nominal, params, eta_y,
                    sliding_length, attach_nodes, attach_weights, k_d, v_d, prescribed,
                    amplitude, omega, t_on, cos_theta, sin_theta,
-                   F_N, mu_max,
+                   amplitude_n, sin_n, cos_n, initial_gap, on_step, start_gain, lift, face_z,
+                   F_N, mu_max, normal_limit, use_energy, normal0, v_old, k_q, k_v, sums,
                    reference, u, v, work, force_sum, disp, disp_new, vel_z,
                    states, normal, friction, scalars, recorder, steady):
     """Advance steps ``first`` .. ``last`` (inclusive). Returns (failed step, code, stop step):
@@ -152,10 +175,19 @@ def explicit_steps(first, last, dt,
     friction, scalars, recorder, steady) so that a run can be resumed chunk by chunk.
     Only contact.contact_forces calls the friction law; the rest is compiled once
     for every law.
+
+    The base along Z (amplitude_n > 0): z_b, v_zb at t_{n+1} (base_motion.normal_displacement)
+    set every node's gap (contact.py); at ``on_step`` every node first moves by the
+    rigid forced response ``start_gain`` (start_motion) along ``lift``, measured on the
+    contact nodes' Z (``face_z``). With
+    ``use_energy`` the balance's sums (energy.py, the explicit shadow form) grow
+    each step: v_old, k_q, k_v are its scratch vectors, ``normal0`` the preload's forces.
     """
     row = recorder[0]
     xb, yb = scalars[XB], scalars[YB]
+    zb, zb_before = scalars[ZB], scalars[ZB_BEFORE]
     sin_phase, cos_phase = scalars[SIN], scalars[COS]
+    lifts_off = amplitude_n > 0.0
     cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
     compliance = 0.0   # sum_a w_a^2 / m_a: the attachment's response to a prescribed drive's force
     for a in range(attach_nodes.shape[0]):
@@ -166,26 +198,48 @@ def explicit_steps(first, last, dt,
         # Drive force at the start of the step (eq 17).
         x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
         f_d = 0.0 if prescribed else k_d * (v_d * (t - dt) - x_a)
+        f_d_start = f_d
         step_forces(u, v, beta, stiffness, load, contact_nodes, friction, normal, attach_nodes,
                     attach_weights, f_d, work, force_sum)
+        if use_energy:
+            energy_before_step(u, reference, v, v_old, stiffness, k_q, k_v)
         central_difference(u, v, force_sum, inverse_mass, dt)
         if prescribed:
             f_d = held_attachment(u, v, t, dt, v_d, reference, attach_nodes, attach_weights,
                                   inverse_mass, compliance)
+        if i == on_step and lifts_off:
+            # the body onto its forced response (normal_start.py): u_{n+1} at t_{n+1},
+            # v_{n+1/2} at the half step, before the contact sees the base
+            start_motion(u, v, lift, face_z, area_share, start_gain, t, dt, t_on, amplitude_n,
+                         omega, sin_n, cos_n, 0.5)
 
-        # Base at t_{n+1} (eqs 23-25).
+        # Base at t_{n+1} (eqs 23-25; along Z, base_motion.normal_displacement).
         u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
                                                          cos_phase, cos_step, sin_step)
         xb_new, yb_new = u_base * cos_theta, u_base * sin_theta
+        zb_new = vzb_new = 0.0
+        if lifts_off and t >= t_on:
+            zb_new, vzb_new = normal_displacement(amplitude_n, omega, sin_n, cos_n, sin_phase,
+                                                  cos_phase)
 
         # Contact nodes: normal force and the two-phase friction update (VFRIC analogue).
         contact_motion(u, v, contact_nodes, disp_new, vel_z)
+        kinetic = shadow = 0.0
+        if use_energy:   # the works of step n's forces (before contact_forces replaces them)
+            kinetic, shadow = explicit_energy_step(
+                u, reference, v, v_old, inverse_mass, k_q, k_v, beta, dt, contact_nodes,
+                initial_gap, disp, penalty_share, normal0, normal, friction, zb, zb_new,
+                0.5 * (zb_new - zb_before), 0.5 * (xb_new - scalars[XB_BEFORE]),
+                0.5 * eta_y * (yb_new - scalars[YB_BEFORE]), f_d_start, v_d, params,
+                area_share, states, sums)
         f_n, f_x, f_y = contact_forces(
-            disp, disp_new, vel_z, xb_new - xb, yb_new - yb, eta_y,
+            disp, disp_new, vel_z, xb_new - xb, yb_new - yb, eta_y, initial_gap, zb_new, vzb_new,
             penalty_share, area_share, nominal, beta, params, dt, sliding_length, states,
             normal, friction)
         magnitude = next_contact_start(disp, disp_new, friction)
+        scalars[XB_BEFORE], scalars[YB_BEFORE] = xb, yb
         xb, yb = xb_new, yb_new
+        zb_before, zb = zb, zb_new
 
         x_a, y_a = attachment_position(u, reference, attach_nodes, attach_weights)
         if not prescribed:
@@ -193,14 +247,21 @@ def explicit_steps(first, last, dt,
 
         # Numerical trouble stops the run at once.
         code = finish_step(t, t_on, f_d, f_n, f_x, f_y, x_a, y_a, xb, yb, magnitude, F_N, mu_max,
-                           scalars, row)
+                           normal_limit, lifts_off, scalars, row)
         if code != trouble.OK:
             return i, code, 0
+        if use_energy:
+            kinetic, elastic = explicit_energy_end(kinetic, shadow, f_d_start, f_d, k_d, params,
+                                                   area_share, states, sums)
+            record_energy(row, sums, kinetic, elastic)
+        if lifts_off:
+            record_normal(row, face_height(u, reference, contact_nodes, area_share), zb, f_n)
         if keep_step(i, f_d, recorder, steady):
             stop = i
             break
 
     scalars[XB], scalars[YB] = xb, yb
+    scalars[ZB], scalars[ZB_BEFORE] = zb, zb_before
     scalars[SIN], scalars[COS] = sin_phase, cos_phase
     return 0, trouble.OK, stop
 
@@ -218,16 +279,19 @@ def explicit_substeps(scene) -> int:
 class ExplicitRun(TimeLoop):
     """Central differences: the Abaqus/Explicit analogue, prepared for a scene.
 
-    Refuses (core.errors.Refusal) a step above the stable one, and fem.energy.
+    Refuses (core.errors.Refusal) a step above the stable one, and fem.energy with a
+    prescribed drive (its constraint's work is not in the balance yet).
     """
 
     name = "explicit"
+    extra_scalars = OWN_SCALARS
 
     def __init__(self, scene, model):
         check_step(scene, model)
-        if scene.fem.energy:
-            raise NoEnergyBalance("the explicit integrator keeps no energy balance; "
-                                           "use fem.integrator = \"implicit\" or \"reduced\"")
+        if scene.fem.energy and scene.drive.prescribed:
+            raise NoEnergyBalance("the explicit integrator keeps no energy balance for a "
+                                  "prescribed drive (drive.mode = \"velocity\"); use "
+                                  "fem.integrator = \"implicit\" or \"reduced\"")
         self.scene, self.model = scene, model
         self.substeps = explicit_substeps(scene)
         self.info = {"friction_substeps": self.substeps}
@@ -257,6 +321,11 @@ class ExplicitRun(TimeLoop):
         disp = u.reshape(-1, 3)[model.contact_nodes].copy()
         disp_new, vel_z = np.empty_like(disp), np.zeros(contacts)
         stiffness = bsr(model.stiffness)  # node-by-node 3x3 blocks
+        sin_n, cos_n = normal_phase(scene.vibration.normal_phase_deg)
+        lift = np.tile([0.0, 0.0, 1.0], dofs // 3)       # every node's Z: the rigid bounce
+        face_z = 3 * model.contact_nodes + 2             # the contact nodes' Z
+        energy_vectors = [np.zeros(dofs if scene.fem.energy else 0) for _ in range(3)]
+        sums = np.zeros(SUMS)
 
         def arguments(first, last):
             return (
@@ -267,7 +336,9 @@ class ExplicitRun(TimeLoop):
                 model.attach_nodes, model.attach_weights, scene.drive.k_d, scene.drive.v_d,
                 scene.drive.prescribed,
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
-                c.F_N, scene.mu_max,
+                scene.vibration.normal_amplitude, sin_n, cos_n, model.initial_gap,
+                first_step_on(scene), start_gain(scene, model), lift, face_z,
+                c.F_N, scene.mu_max, normal_force_limit(scene, model), scene.fem.energy, model.normal0, *energy_vectors, sums,
                 model.u0, u, v, work, force_sum, disp, disp_new, vel_z,
                 contact.state, contact.normal, contact.friction,
                 scalars, recorder.arrays, steady.arrays)

@@ -25,7 +25,8 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from ...core.base_motion import base_displacement, vibration_axis
+from ...core.base_motion import (base_displacement, normal_displacement, normal_phase,
+                                 vibration_axis)
 from ...core.errors import StepTooLong
 from ...core.law_limits import slip_per_step
 from ...friction_law import law_kernel
@@ -34,21 +35,27 @@ from ..outputs import energy, recording, trouble
 from .borrowed import borrowed
 from .contact_solve import (ITERATION_TOLERANCE, MAX_CONTRACTION, MAX_ITERATIONS, NOT_CONVERGED,
                             STALLED, ContactData, StepStart, base_over_substeps, commit_contact,
-                            implicit_substeps, iterate_contact, still_substeps)
+                            implicit_substeps, iterate_contact, normal_over_substeps,
+                            still_substeps)
+from .normal_start import (first_step_on, normal_force_limit, restart_normal_forces,
+                           start_gain, start_motion)
 from ..model.drive import attachment_xy
 from ..outputs.energy import SUMS, add_contact_work, add_damping_and_drive_work
 from ..outputs.energy import record as record_energy, stored as energy_stored
 from .generalized_alpha import (LinearSystem, Scheme, coefficients, contact_tangent,
                                 free_response, newmark_update)
 from ..model.linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
-from ..outputs.recording import COS, LOOP_SCALARS, SIN, XB, YB, finish_step, keep_step
+from ..outputs.recording import (COS, LOOP_SCALARS, SIN, XB, YB, finish_step, keep_step,
+                                 record_normal)
 from .step_cost import step_cost
 from .time_loop import Started, TimeLoop
 
 # scalars[]: the implicit loop's own carried state, after recording's: the drive's force
-# and a prescribed drive's hold in Y at the last step, the contact iteration's statistics
-OWN_SCALARS = 5
-F_D, ITER_MAX, ITER_SUM, ITER_STALLED, F_HOLD = range(LOOP_SCALARS, LOOP_SCALARS + OWN_SCALARS)
+# and a prescribed drive's hold in Y at the last step, the contact iteration's statistics,
+# the base's Z at the last step
+OWN_SCALARS = 6
+F_D, ITER_MAX, ITER_SUM, ITER_STALLED, F_HOLD, ZB = range(LOOP_SCALARS,
+                                                          LOOP_SCALARS + OWN_SCALARS)
 
 
 class Work(NamedTuple):
@@ -79,6 +86,8 @@ class Work(NamedTuple):
     jac: np.ndarray         # (3,)
     base_dx: np.ndarray     # (substeps,) the base's X increments over the friction sub-steps
     base_free: np.ndarray   # (substeps,) the free end's: eta_y dy_b (eq 30)
+    base_z: np.ndarray      # (substeps,) the base's Z and Z velocity at the sub-steps' ends
+    base_vz: np.ndarray
 
     @classmethod
     def allocate(cls, n: int, contacts: int, substeps: int, state_size: int) -> "Work":
@@ -88,7 +97,7 @@ class Work(NamedTuple):
                    np.empty((contacts, state_size)), np.empty(state_size),
                    np.empty(contacts), np.empty((contacts, 2)),
                    np.empty(nc), np.empty(contacts, dtype=np.int64), np.empty(3),
-                   np.empty(substeps), np.empty(substeps))
+                   *(np.empty(substeps) for _ in range(4)))
 
 
 class Operators(NamedTuple):
@@ -112,7 +121,7 @@ class Operators(NamedTuple):
 
 
 class BaseMotion(NamedTuple):
-    """The vibrating base (eqs 23-25, 30)."""
+    """The vibrating base (eqs 23-25, 30), and along Z (base_motion.normal_displacement)."""
 
     amplitude: float
     omega: float
@@ -120,6 +129,13 @@ class BaseMotion(NamedTuple):
     cos_theta: float
     sin_theta: float
     eta_y: float
+    amplitude_n: float      # vibration.normal_amplitude (0: the base stays at z = 0)
+    sin_n: float            # sin, cos of vibration.normal_phase_deg
+    cos_n: float
+    on_step: int            # the first step on, where the body starts on its forced
+    gain: tuple             # response (normal_start.py): (Re H, Im H)
+    lift: np.ndarray        # (n,) the q of every node moving by 1 in Z
+    body_mass: float        # kg
 
 
 class Drive(NamedTuple):
@@ -133,6 +149,7 @@ class Limits(NamedTuple):
 
     F_N: float
     mu_max: float
+    normal_limit: float     # the summed normal force's (normal_start.normal_force_limit)
 
 
 def system_matrix(system: LinearSystem, model, coefficients, held):
@@ -295,13 +312,18 @@ class ImplicitRun(TimeLoop):
                               self.e, self.h_y, self.e_xy, self.e_yy, system.contact_dofs, others,
                               system.drive_index, system.drive_x, system.drive_y)
         nodes = ContactData(u0c, model.normal0, model.penalty_share, model.area_share,
-                            model.nominal_normal, self.tangent, self.assumed)
-        base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta, c.eta_y)
+                            model.nominal_normal, model.initial_gap, self.tangent, self.assumed)
+        lift = np.ascontiguousarray(system.rigid(np.tile([0.0, 0.0, 1.0], model.dofs // 3)))
+        base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
+                          c.eta_y, scene.vibration.normal_amplitude,
+                          *normal_phase(scene.vibration.normal_phase_deg),
+                          first_step_on(scene), start_gain(scene, model), lift,
+                          model.block_mass)
         scheme = Scheme(dt, *self.coefficients, model.beta,
                         self.iteration_tolerance * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
                         still_substeps(scene))
         drive = Drive(scene.drive.k_d, scene.drive.v_d, self.prescribed)
-        limits = Limits(c.F_N, scene.mu_max)
+        limits = Limits(c.F_N, scene.mu_max, normal_force_limit(scene, model))
 
         def arguments(first, last):
             return (first, last, operators, nodes, params, base, drive, scheme, limits,
@@ -332,6 +354,16 @@ class ImplicitRun(TimeLoop):
         return {"iterations_max": int(scalars[ITER_MAX]),
                 "iterations_mean": scalars[ITER_SUM] / max(last, 1),
                 "iterations_stalled": int(scalars[ITER_STALLED])}
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def face_height_q(q, contact_dofs, area_share):
+    """The contact face's mean height from the preload, sum_i w_i q_z,i (its nodes' q are
+    their displacements, full and reduced alike)."""
+    z = 0.0
+    for c in range(contact_dofs.shape[0]):
+        z += area_share[c] * q[contact_dofs[c, 2]]
+    return z
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -376,13 +408,15 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
     (operators, contact, params, work, q, v, a, states, normal, friction, g_prev, scalars, sums,
      recorder) = borrowed((operators, contact, params, work, q, v, a, states, normal, friction,
                            g_prev, scalars, sums, recorder))
-    amplitude, omega, t_on, cos_theta, sin_theta, eta_y = base
+    amplitude, omega, t_on, cos_theta, sin_theta, eta_y = base[:6]
+    amplitude_n, sin_n, cos_n, on_step, gain, lift, body_mass = base[6:]
+    lifts_off = amplitude_n > 0.0
     k_d, v_d, prescribed = drive
     spring = math.inf if prescribed else k_d   # the drive spring's stiffness (energy)
     dt, alpha_f, beta_n, gamma, beta = scheme.dt, scheme.alpha_f, scheme.beta_n, scheme.gamma, scheme.beta
-    F_N, mu_max = limits
+    F_N, mu_max, normal_limit = limits
     row = recorder[0]
-    xb, yb = scalars[XB], scalars[YB]
+    xb, yb, zb = scalars[XB], scalars[YB], scalars[ZB]
     sin_phase, cos_phase = scalars[SIN], scalars[COS]
     f_d_old = scalars[F_D]
     f_hold_old = scalars[F_HOLD]
@@ -390,6 +424,22 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
     stop = 0
     for i in range(first, last + 1):
         t = i * dt
+        if i == on_step and lifts_off:
+            # the state at t_n, a step before the first step on: onto the body's forced
+            # response to the base's sinusoid there (normal_start.py), its contact
+            # forces afresh; the base moves along it from t_n (normal_over_substeps)
+            start_motion(q, v, lift, operators.contact_dofs[:, 2], contact.area_share, gain,
+                         t - dt, dt, t_on, amplitude_n, omega, sin_n, cos_n, 0.0)
+            phase = omega * (t - dt - t_on)
+            z_on, vz_on = normal_displacement(amplitude_n, omega, sin_n, cos_n, math.sin(phase),
+                                              math.cos(phase))
+            change = restart_normal_forces(q, v, operators.contact_dofs, contact.u0c[:, 2],
+                                           contact.initial_gap, contact.penalty_share, beta,
+                                           z_on, vz_on, contact.tangent, contact.assumed,
+                                           normal, g_prev)
+            for k in range(a.shape[0]):      # the rigid body's acceleration by the change
+                a[k] += lift[k] * change / body_mass
+            zb = z_on
         free_response(q, v, a, friction, normal, f_d_old, f_hold_old, operators, contact.normal0,
                       scheme, prescribed, work)
 
@@ -402,7 +452,11 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         m = work.base_dx.shape[0] if t > t_on else scheme.still_substeps
         base_over_substeps(t, dt, u_base, amplitude, omega, t_on, cos_theta, sin_theta, eta_y,
                            work.base_dx[:m], work.base_free[:m])
-        step = StepStart(q, v, work.vt, work.qt, work.base_dx[:m], work.base_free[:m])
+        normal_over_substeps(t, dt, amplitude_n, omega, t_on, (on_step - 1) * dt, sin_n, cos_n,
+                             work.base_z[:m], work.base_vz[:m])
+        step = StepStart(q, v, work.vt, work.qt, work.base_dx[:m], work.base_free[:m],
+                         work.base_z[:m], work.base_vz[:m])
+        zb_new = work.base_z[m - 1]
 
         outcome, iterations, f_d, f_hold, f_n, f_x, f_y = iterate_contact(
             t, step, operators, contact, params, drive, scheme, mu_max, states, g_prev, work)
@@ -421,10 +475,11 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             add_contact_work(q, work.q_new, operators.contact_dofs, contact.penalty_share,
                              contact.area_share, params, states, work.trial_state, friction,
                              work.force_t, normal, work.normal_t, alpha_f, dx_b, eta_y * dy_b,
-                             beta, dt, sums)
+                             zb, zb_new, beta, dt, sums)
         newmark_update(q, v, a, work.q_new, work.qt, work.vt, beta_n, gamma, dt)
         magnitude = commit_contact(states, normal, friction, work)
         xb, yb = xb_new, yb_new
+        zb = zb_new
         f_d_old = f_d
         f_hold_old = f_hold
 
@@ -433,22 +488,25 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         if not prescribed:
             f_d = k_d * (v_d * t - x_out)  # eq 17; prescribed: the iteration's reaction
         code = finish_step(t, t_on, f_d, f_n, f_x, f_y, x_out, y_out, xb, yb, magnitude, F_N,
-                           mu_max, scalars, row)
+                           mu_max, normal_limit, lifts_off, scalars, row)
         if code != trouble.OK:
             return i, code, 0
         if use_energy:
             apply(operators.mass, v, work.r1)
             apply(operators.stiffness, q, work.r2)
             kinetic, elastic = energy_stored(q, v, work.r1, work.r2, operators.contact_dofs,
-                                             contact.u0c[:, 2], contact.normal0,
-                                             contact.penalty_share, contact.area_share, params,
-                                             states, f_d, spring)
+                                             contact.u0c[:, 2], contact.initial_gap, zb,
+                                             contact.normal0, contact.penalty_share,
+                                             contact.area_share, params, states, f_d, spring)
             record_energy(row, sums, kinetic, elastic)
+        if lifts_off:
+            record_normal(row, face_height_q(q, operators.contact_dofs, contact.area_share),
+                          zb, f_n)
         if keep_step(i, f_d, recorder, steady):
             stop = i
             break
 
-    scalars[XB], scalars[YB] = xb, yb
+    scalars[XB], scalars[YB], scalars[ZB] = xb, yb, zb
     scalars[SIN], scalars[COS] = sin_phase, cos_phase
     scalars[F_D] = f_d_old
     scalars[F_HOLD] = f_hold_old

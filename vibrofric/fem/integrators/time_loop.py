@@ -26,7 +26,7 @@ import numpy as np
 from ...core.series import averaging_steps
 from ..outputs import trouble
 from ..model.linalg import one_blas_thread
-from ..outputs.recording import (XB, YB, Integration, Recorder, State, columns, initial_scalars,
+from ..outputs.recording import (XB, YB, Integration, Recorder, State, initial_scalars, scene_columns,
                         loop_stats, node_stride, run_in_chunks)
 from ..outputs.steady import SteadyState
 
@@ -100,7 +100,7 @@ class TimeLoop:
         law = scene.friction.law
         contact = ContactState.at_preload(self.model, law)
         scalars = initial_scalars(self.extra_scalars)
-        recorder = Recorder(plan, len(columns(scene.fem.energy)), contact.normal,
+        recorder = Recorder(plan, len(scene_columns(scene)), contact.normal,
                             node_stride(scene))
         steady = SteadyState(scene)
         started = self.start(contact, scalars, recorder, steady)

@@ -1,11 +1,21 @@
-"""Contact of the block's bottom face with the rigid base z = 0, node by node.
+"""Contact of the body's contact face with the rigid base, node by node.
 
 Normal direction: a penalty spring per contact node (and, with the model's
-stiffness-proportional damping, a dashpot beside it), against a base that
-never moves in Z. The node at height u_z (the gap: the face starts at z = 0)
-is pushed up by
+stiffness-proportional damping, a dashpot beside it), against the base's
+plane at height z_b(t) (0 unless vibration.normal_amplitude > 0: the base
+moving along Z, core/base_motion.py normal_displacement). Node i's gap is
 
-    N_i = k_pen w_i min(max(0, -u_z - beta v_z), -2 u_z)   if u_z < 0,   else 0
+    g_i = g0_i + u_z,i - z_b          (g0_i: FEModel.initial_gap, its height at rest
+                                       before the preload; 0 on the block's face)
+
+and, with v_z,i - v_zb its speed relative to the base, it is pushed up by
+
+    N_i = k_pen w_i min(max(0, -g_i - beta (v_z,i - v_zb)), -2 g_i)   if g_i < 0,   else 0
+
+(written below for the block, g = u_z, v_zb = 0: a base that stays at z = 0 gives
+the gap u_z to the bit). A node whose gap opens carries no force (N_i = 0, its
+friction law released) until it touches down again; the min() below is the
+touch-down rule.
 
 where w_i = a_i / A is the node's share of the contact area (a_i its tributary
 area, sum w_i = 1) and k_pen the penalty stiffness of the whole face. The
@@ -149,7 +159,8 @@ def curvature_radius(xy: np.ndarray, initial_gap: np.ndarray) -> float:
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def normal_force(u_z, v_z, penalty_share, beta):
     """N_i = k_pen,i min(max(0, -u_z - beta v_z), -2 u_z) if the node penetrates (u_z < 0),
-    else 0: continuous in u_z (the dashpot's push at most the spring's)."""
+    else 0: continuous in u_z (the dashpot's push at most the spring's). u_z is the
+    node's gap g_i and v_z its speed relative to the base (module docstring)."""
     if u_z >= 0.0:
         return 0.0
     closing = -u_z - beta * v_z
@@ -173,7 +184,7 @@ def law_normal_force(n_i, nominal):
 def node_contact(slip_x, slip_y, u_z, v_z, dx_b, free_y, penalty_share, w, nominal, beta,
                  params, dt, state):
     """One node's step: (N_i, F_x, F_y) after the body moved by (slip_x, slip_y) and
-    reached height u_z at speed v_z, the base by dx_b and the free end by free_y; the
+    reached the gap u_z at speed v_z relative to the base (module docstring), the base by dx_b and the free end by free_y; the
     node's law ``state`` is updated in place (the VFRIC call). N_i is the penalty
     force; the law sees law_normal_force(N_i, nominal) (``nominal``: the node's
     entry of nominal_normal)."""
@@ -186,7 +197,7 @@ def node_contact(slip_x, slip_y, u_z, v_z, dx_b, free_y, penalty_share, w, nomin
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
-def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
+def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y, initial_gap, z_b, v_zb,
                    penalty_share, area_share, nominal, beta, params, dt, sliding_length,
                    states, normal, force):
     """Advance every contact node by one step; outputs are written in place.
@@ -194,6 +205,8 @@ def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
     disp_old, disp_new  (n, 3) the nodes' displacements at the start and end of the step
     vel_z               (n,) their Z velocities at the end of the step
     dx_b, dy_b          the base's increment over the step (eqs 24-25)
+    initial_gap         (n,) g0_i, each node's height at rest (FEModel.initial_gap)
+    z_b, v_zb           the base's height and Z velocity at the end of the step
     penalty_share       (n,) k_pen w_i;  area_share (n,) w_i
     nominal             (n,) nominal_normal: what each node's law sees in contact
     params              the law's parameters (friction_law.ContactLaw.params)
@@ -220,9 +233,11 @@ def contact_forces(disp_old, disp_new, vel_z, dx_b, dy_b, eta_y,
             count = slip / resolving
             substeps = MAX_SUBSTEPS if count > MAX_SUBSTEPS else math.ceil(count)
         n_i = f_x = f_y = 0.0
+        gap = initial_gap[i] + disp_new[i, 2] - z_b      # u_z to the bit on the block at rest
+        closing = vel_z[i] - v_zb
         for _ in range(substeps):   # (dividing by 1 is exact: one update as before)
             n_i, f_x, f_y = node_contact(
-                slip_x / substeps, slip_y / substeps, disp_new[i, 2], vel_z[i],
+                slip_x / substeps, slip_y / substeps, gap, closing,
                 dx_b / substeps, free_y / substeps, penalty_share[i], area_share[i],
                 nominal[i], beta, params, dt / substeps, states[i])
         normal[i] = n_i

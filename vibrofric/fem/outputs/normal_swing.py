@@ -49,6 +49,8 @@ import numpy as np
 from ...core.errors import NumericalError
 
 STEADY_NORMAL = 0.01
+# A base moving along Z: the cycles of f a steady bouncing cycle may span (judge).
+SUBHARMONIC_PERIODS = (2, 4)
 # node_swing above which the normal-force rule matters (measured: docs/validation.md,
 # "The normal-force rule").
 RULE_MATTERS = 0.1
@@ -90,8 +92,10 @@ def free_frequency(values, dt: float, f: float) -> float:
 
 @dataclass
 class NormalSwing:
-    """The window's summed normal force as judged above (kind: "steady", "rocking" or
-    "transient"); low/high over the whole window, forced the window's forced
+    """The window's summed normal force as judged above (kind: "steady", "rocking",
+    "forced" (a base moving along Z), "subharmonic" (its bouncing cycle spanning
+    SUBHARMONIC_PERIODS cycles of f; forced then at f / k), "bouncing" (leaving the
+    base and landing off any such cycle) or "transient"); low/high over the whole window, forced the window's forced
     fraction, end_low/end_high and end_forced over its end, free_frequency_hz the
     largest free line over the window (None where steady)."""
 
@@ -130,10 +134,12 @@ def _swings(values, F_N: float) -> bool:
     return max(F_N - values.min(), values.max() - F_N) > STEADY_NORMAL * F_N
 
 
-def judge(window, dt: float, f: float, F_N: float, damping: float) -> NormalSwing:
+def judge(window, dt: float, f: float, F_N: float, damping: float,
+          moving_base: bool = False) -> NormalSwing:
     """Judge the averaging window's summed normal force (sampled every dt over whole
     cycles of f); raise NumericalError for ringing (``damping``: the model's beta, s,
-    for the message)."""
+    for the message). ``moving_base``: the base moves along Z, and a swing at the
+    harmonics of f is its forced response, "forced" rather than "rocking"."""
     window = np.asarray(window)
     cycles = int(round(window.size * dt * f))
     end_cycles = min(cycles, max(END_CYCLES, int(END_FRACTION * cycles)))
@@ -144,10 +150,28 @@ def judge(window, dt: float, f: float, F_N: float, damping: float) -> NormalSwin
     if not _swings(window, F_N):
         return swing
     swing.free_frequency_hz = free_frequency(window, dt, f)
+    if moving_base and forced < FORCED_FRACTION:
+        # a body bouncing on a base moving along Z may settle on a cycle of several of
+        # the base's (period doubling: the bouncing ball's route to chaos); forced
+        # still, at the harmonics of f / k
+        for cycles_per_period in SUBHARMONIC_PERIODS:
+            at = f / cycles_per_period
+            if (forced_fraction(window, dt, at) >= FORCED_FRACTION
+                    and forced_fraction(end, dt, at) >= FORCED_FRACTION):
+                swing.kind = "subharmonic"
+                swing.forced, swing.end_forced = (forced_fraction(window, dt, at),
+                                                  forced_fraction(end, dt, at))
+                swing.free_frequency_hz = None
+                return swing
     if forced >= FORCED_FRACTION:
-        swing.kind = "rocking"
+        swing.kind = "forced" if moving_base else "rocking"
     elif not _swings(end, F_N) or end_forced >= FORCED_FRACTION:
         swing.kind = "transient"
+    elif moving_base and swing.end_low <= 0.0:
+        # the body leaves the base and lands again off its cycle: a bouncing body, not
+        # numerical trouble (the lumped body does the same from just above its contact-
+        # loss threshold, analytic/normal.py); kept, and reported unsettled
+        swing.kind = "bouncing"
     else:
         raise NumericalError(
             f"the summed normal force swung between {swing.end_low:.4g} and "
@@ -159,3 +183,15 @@ def judge(window, dt: float, f: float, F_N: float, damping: float) -> NormalSwin
             f"step (the block's own free vibration, slow to decay on a stiff contact), "
             f"average later (time.T)")
     return swing
+
+
+def normal_force_keys(f_n: np.ndarray, node_normals: np.ndarray) -> dict:
+    """The summary's normal-force keys over the averaging window (the interface's, as the
+    lumped model reports them: analytic/normal.py normal_force_keys): the summed normal
+    force's mean, min and max (N, every step ``f_n``) and contact_loss_fraction, the mean
+    fraction of the contact nodes out of contact (N_i = 0) over the window's kept
+    samples of the nodes' forces (``node_normals``, (samples, nodes): at least
+    NODE_SAMPLES_PER_CYCLE a cycle, recording.py)."""
+    open_fraction = float(np.mean(node_normals <= 0.0)) if node_normals.size else 0.0
+    return {"contact_loss_fraction": open_fraction, "normal_force_mean": float(np.mean(f_n)),
+            "normal_force_min": float(np.min(f_n)), "normal_force_max": float(np.max(f_n))}

@@ -53,13 +53,40 @@ ENERGY = ("W_drive", "W_base", "E_kin", "E_el", "D_fric", "D_damp")
 W_DRIVE, W_BASE, E_KIN, E_EL, D_FRIC, D_DAMP = range(len(COLUMNS), len(COLUMNS) + len(ENERGY))
 
 
-def columns(energy: bool) -> tuple:
-    return COLUMNS + (ENERGY if energy else ())
+# A base moving along Z (vibration.normal_amplitude > 0) adds, last, the lumped model's
+# normal columns (analytic/normal.py NORMAL_COLUMNS), here for the FE body:
+#   z    the contact face's mean height from the preload, sum_i w_i (u_z,i - u0_z,i) (m)
+#   z_b  the base's height (m)
+#   N    the summed normal force sum_i N_i (N; the same as F_n)
+NORMAL = ("z", "z_b", "N")
 
 
-def extra_columns(energy: bool) -> tuple:
+def columns(energy: bool, normal: bool = False) -> tuple:
+    return COLUMNS + (ENERGY if energy else ()) + (NORMAL if normal else ())
+
+
+def extra_columns(energy: bool, normal: bool = False) -> tuple:
     """The columns after the TimeSeries' standard ones (TimeSeries.extra)."""
-    return columns(energy)[len(SERIES_COLUMNS):]
+    return columns(energy, normal)[len(SERIES_COLUMNS):]
+
+
+def scene_columns(scene) -> tuple:
+    """The recorded columns of an FE run of ``scene``."""
+    return columns(scene.fem.energy, scene.vibration.normal_amplitude > 0.0)
+
+
+def scene_extra_columns(scene) -> tuple:
+    """scene_columns after the TimeSeries' standard ones."""
+    return scene_columns(scene)[len(SERIES_COLUMNS):]
+
+
+@njit(cache=True)
+def record_normal(row, z, z_b, f_n):
+    """The NORMAL columns, the row's last three (a base moving along Z)."""
+    k = row.shape[0]
+    row[k - 3] = z
+    row[k - 2] = z_b
+    row[k - 1] = f_n
 
 
 @dataclass
@@ -180,10 +207,13 @@ def initial_scalars(extra: int = 0) -> np.ndarray:
 
 @njit(cache=True, error_model="numpy")
 def finish_step(t, t_on, f_d, f_n, f_x, f_y, x, y, x_b, y_b, friction_magnitude, F_N, mu_max,
-                scalars, row):
-    """Check a finished step (trouble.step_trouble), track the summed normal force's
-    extremes and fill the row's COLUMNS. Returns the trouble code."""
-    code = trouble.step_trouble(f_d, f_n, friction_magnitude, F_N, mu_max)
+                normal_limit, lifts_off, scalars, row):
+    """Check a finished step (trouble.step_trouble; ``normal_limit`` the summed normal
+    force's, ``lifts_off``: the base moves along Z, and the whole face may leave it),
+    track the summed normal force's extremes and fill the row's COLUMNS. Returns the
+    trouble code."""
+    code = trouble.step_trouble(f_d, f_n, friction_magnitude, F_N, mu_max, normal_limit,
+                                lifts_off)
     if code != trouble.OK:
         return code
     scalars[FN_MIN] = min(scalars[FN_MIN], f_n)

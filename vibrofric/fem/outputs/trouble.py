@@ -9,21 +9,22 @@ import math
 from numba import njit
 
 from ...core.errors import NumericalError
-from ...core.law_limits import DIVERGED
+from ...core.law_limits import DIVERGED, NORMAL_LIMIT
 
 # Codes returned by the time loops, and what they mean.
 OK, NOT_FINITE, FRICTION_DIVERGED, NORMAL_BLOWUP, LIFT_OFF, NOT_CONVERGED = range(6)
 
 # A summed friction force beyond DIVERGED times its Coulomb limit, or a summed
-# normal force beyond NORMAL_LIMIT times F_N, is numerical divergence, not physics
-# (a Dahl asperity never exceeds its sliding length; the normal load is F_N).
-NORMAL_LIMIT = 10.0
+# normal force beyond NORMAL_LIMIT (core/law_limits.py) times F_N, is numerical
+# divergence, not physics (a Dahl asperity never exceeds its sliding length; the normal
+# load is F_N).
 
 _WHAT = {
     NOT_FINITE: "a force became NaN or infinite",
     FRICTION_DIVERGED: f"the summed friction force exceeded {DIVERGED} times its Coulomb limit "
                        "(a diverging asperity update)",
-    NORMAL_BLOWUP: f"the summed normal force exceeded {NORMAL_LIMIT} F_N",
+    NORMAL_BLOWUP: f"the summed normal force exceeded {NORMAL_LIMIT} F_N (with a base moving "
+                   f"along Z, {NORMAL_LIMIT} times F_N plus the impact at the base's speed)",
     LIFT_OFF: "the block lost contact with the base (summed normal force 0)",
     NOT_CONVERGED: "the contact iteration of the step did not converge (nodes lifting off and "
                    "touching down within the step: the block is bouncing on its contact, or "
@@ -32,13 +33,16 @@ _WHAT = {
 
 
 @njit(cache=True, error_model="numpy")
-def step_trouble(f_d, f_n, friction_magnitude, F_N, mu_max):
-    """The trouble code of a finished step (OK if none)."""
+def step_trouble(f_d, f_n, friction_magnitude, F_N, mu_max, normal_limit, lifts_off):
+    """The trouble code of a finished step (OK if none). ``normal_limit``: the summed
+    normal force past which it has diverged (normal_start.normal_force_limit: NORMAL_LIMIT
+    F_N with a base at rest in Z); ``lifts_off``: the base moves along Z, and a face out
+    of contact (f_n = 0) is the motion's, not trouble."""
     if not (math.isfinite(f_d) and math.isfinite(f_n) and math.isfinite(friction_magnitude)):
         return NOT_FINITE
-    if f_n > NORMAL_LIMIT * F_N:
+    if f_n > normal_limit:
         return NORMAL_BLOWUP
-    if f_n <= 0.0:
+    if f_n <= 0.0 and not lifts_off:
         return LIFT_OFF
     if friction_magnitude > DIVERGED * mu_max * max(f_n, F_N):
         return FRICTION_DIVERGED
