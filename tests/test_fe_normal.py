@@ -147,3 +147,38 @@ def test_a_base_starting_at_its_crest_does_not_strike_the_body(integrator):
         forced, rel=0.02)
     assert info["contact_loss_fraction"] == 0.0
     assert info["F_n_kind"] == "forced"
+
+
+def test_the_steady_cycle_is_shot_for_where_the_contact_holds():
+    """time.method auto: the cycle map is smooth while every node stays in contact, and
+    the shooting answers (integrators/periodic.py); the normal keys come from its cycle."""
+    scene = _normal_scene(5e-8, mesh="coarse", time__method="auto", fem__energy=False)
+    result = run_fe(scene)
+    info = result.info
+    assert info["periodic"]["method"] == "periodic", info["periodic"]["reason"]
+    assert info["contact_loss_fraction"] == 0.0
+    F_N = scene.contact.F_N
+    assert info["normal_force_min"] < 0.8 * F_N and info["normal_force_max"] > 1.2 * F_N
+    assert result.series.names[-3:] == ("z", "z_b", "N")
+
+
+def test_the_command_line_reports_the_fe_normal_keys_and_columns(tmp_path, capsys):
+    import json
+
+    from vibrofric.cli import main
+
+    out = tmp_path / "run"
+    assert main(["run", "longitudinal", "--set", "vibration.normal_amplitude=5e-8",
+                 "--set", 'fem.mesh="tiny"', "--set", "vibration.t_on=0.002",
+                 "--set", "time.T=0.01", "--set", "time.average_cycles=8",
+                 "--set", 'time.method="transient"', "--set", "time.error_estimate=false",
+                 "--set", "fem.energy=true", "--json", "--out", str(out)]) == 0
+    fe = json.loads(capsys.readouterr().out)["fe"]
+    for key in ("contact_loss_fraction", "normal_force_mean", "normal_force_min",
+                "normal_force_max", "energy_closure"):
+        assert isinstance(fe[key], float), key
+    assert fe["normal_force"] == "forced"
+    header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
+    assert header[-3:] == ["z", "z_b", "N"]
+    assert json.loads((out / "summary.json").read_text())["fe"]["energy_closure"] == fe[
+        "energy_closure"]
