@@ -43,7 +43,8 @@ def main() -> None:
     M = sp.diags(mass)
     values, vectors = sla.eigsh(K, k=args.modes, M=M, sigma=0.0, which="LM")
     e_z = np.tile([0.0, 0.0, 1.0], dofs // 3)
-    participation = (vectors.T @ (mass * e_z)) ** 2 / np.einsum("ij,i,ij->j", vectors, mass, vectors)
+    modal_mass = np.einsum("ij,i,ij->j", vectors, mass, vectors)
+    participation = (vectors.T @ (mass * e_z)) ** 2 / modal_mass
     bounce = int(np.argmax(participation))
     f_fe = math.sqrt(values[bounce]) / (2 * math.pi)
     k_n = bounce_stiffness(model.block_mass, scene.body.E, model.density, scene.body.size,

@@ -212,12 +212,13 @@ def check_fe_scene(scene) -> None:
     if scene.vibration.normal_amplitude > 0.0 and (is_block or scene.fem.penalty is not None):
         bound = normal_step_bound(scene)
         if scene.vibration.normal_amplitude > bound:
+            approach = scene.vibration.normal_amplitude * scene.omega * scene.time.dt
+            taken = NORMAL_LIMIT * scene.contact.F_N / fe_penalty(scene)
             raise SceneError("vibration.normal_amplitude",
                              f"{scene.vibration.normal_amplitude:g} m moves the base into the body "
-                             f"by up to A_n w dt = {scene.vibration.normal_amplitude * scene.omega * scene.time.dt:.3g} m "
-                             f"a step, more than the penalty takes in one "
-                             f"({NORMAL_LIMIT:g} F_N / k_pen = {NORMAL_LIMIT * scene.contact.F_N / fe_penalty(scene):.3g} m): "
-                             f"use vibration.normal_amplitude <= {bound:.3g} m or a smaller time.dt")
+                             f"by up to A_n w dt = {approach:.3g} m a step, more than the penalty "
+                             f"takes in one ({NORMAL_LIMIT:g} F_N / k_pen = {taken:.3g} m): use "
+                             f"vibration.normal_amplitude <= {bound:.3g} m or a smaller time.dt")
 
 
 def fe_penalty(scene) -> float:

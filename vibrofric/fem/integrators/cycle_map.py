@@ -27,11 +27,12 @@ import math
 
 import numpy as np
 
-from ...core.base_motion import vibration_axis
+from ...core.base_motion import normal_phase, vibration_axis
 from ...core.series import RecordPlan
 from ..outputs.recording import (COS, SIN, XB, YB, Recorder, initial_scalars, node_stride,
                                  scene_columns)
 from ..outputs.steady import SteadyState
+from .normal_start import start_gain
 from .time_loop import ContactState
 
 # The displacements' scale in F_c / k_pen. With it the cycle map's Jacobian is of order
@@ -108,7 +109,7 @@ class FECycleMap:
         return self.size + len(self.carried_scalars)
 
     def _motion(self, kind: str) -> np.ndarray:
-        """A rigid node motion (dofs,): unit translation in X or Y, or a unit turn about Z
+        """A rigid node motion (dofs,): unit translation in X, Y or Z, or a unit turn about Z
         around the drive's attachment's weighted centre (1 m of X per m of Y)."""
         model = self.model
         motion = np.zeros(model.dofs).reshape(-1, 3)
@@ -116,6 +117,8 @@ class FECycleMap:
             motion[:, 0] = 1.0
         elif kind == "y":
             motion[:, 1] = 1.0
+        elif kind == "z":
+            motion[:, 2] = 1.0
         else:
             xyz = model.disc.coordinates
             centre = model.attach_weights @ xyz[model.attach_nodes]
@@ -289,7 +292,11 @@ class FECycleMap:
         """The unscaled co-moving state of steady sliding before any transient: the preload,
         the whole block moving at v_d and set back by the drive spring's stretch under
         ``drive_force`` (F_d = k_d (v_d t - x_A), eq 17), the laws at rest, the carried
-        scalars' drive force ``drive_force``."""
+        scalars' drive force ``drive_force``; where the base moves along Z, the body
+        moved rigidly onto its forced response to the base at the cycle's start
+        (normal_start.start_gain; the base at its phase phi there: started at the
+        preload, a base at its crest would be A_n into the body, and the first cycle
+        diverged)."""
         scene = self.scene
         z = self.preload.copy()
         stretch = 0.0 if scene.drive.prescribed else drive_force / scene.drive.k_d
@@ -301,6 +308,13 @@ class FECycleMap:
                 z[k:k + array.size] = scene.drive.v_d * np.asarray(
                     velocity["q" if "q" in velocity else "u"]).ravel()
             k += array.size
+        amplitude = scene.vibration.normal_amplitude
+        if amplitude > 0.0:
+            face, speed = start_gain(scene, self.model)
+            sin_n, cos_n = normal_phase(scene.vibration.normal_phase_deg)
+            z[:self.size] += (face * amplitude * sin_n * self._image(self._motion("z"))[:self.size]
+                              + speed * amplitude * scene.omega * cos_n
+                              * self._velocity_image("z")[:self.size])
         if self.carried_scalars:
             z[self.size] = drive_force
         return z

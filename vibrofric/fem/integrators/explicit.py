@@ -25,7 +25,12 @@ force from the start of the step, friction force from the previous update.
 The whole step (sparse product with K in 3x3 node blocks, contact, friction,
 drive, base, recording, checks, early steady state) is one numba loop; Python
 only sees the run again every ``fem.output_every`` steps, to write a ParaView
-frame. Energy accounting (fem.energy) is the implicit integrators' (outputs/energy.py).
+frame. With fem.energy the loop keeps central differences' own energy balance, in its
+shadow form (outputs/energy.py explicit_energy_step).
+
+A base moving along Z (vibration.normal_amplitude > 0): each contact node's gap is
+measured against z_b(t_{n+1}) and its dashpot against the base's speed
+(model/contact.py), and the body starts on its forced response (normal_start.py).
 """
 
 import math
@@ -210,8 +215,8 @@ def explicit_steps(first, last, dt,
         if i == on_step and lifts_off:
             # the body onto its forced response (normal_start.py): u_{n+1} at t_{n+1},
             # v_{n+1/2} at the half step, before the contact sees the base
-            start_motion(u, v, lift, face_z, area_share, start_gain, t, dt, t_on, amplitude_n,
-                         omega, sin_n, cos_n, 0.5)
+            start_motion(u, reference, v, lift, face_z, area_share, start_gain, t, dt, t_on,
+                         amplitude_n, omega, sin_n, cos_n, 0.5)
 
         # Base at t_{n+1} (eqs 23-25; along Z, base_motion.normal_displacement).
         u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
@@ -338,7 +343,8 @@ class ExplicitRun(TimeLoop):
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                 scene.vibration.normal_amplitude, sin_n, cos_n, model.initial_gap,
                 first_step_on(scene), start_gain(scene, model), lift, face_z,
-                c.F_N, scene.mu_max, normal_force_limit(scene, model), scene.fem.energy, model.normal0, *energy_vectors, sums,
+                c.F_N, scene.mu_max, normal_force_limit(scene, model), scene.fem.energy,
+                model.normal0, *energy_vectors, sums,
                 model.u0, u, v, work, force_sum, disp, disp_new, vel_z,
                 contact.state, contact.normal, contact.friction,
                 scalars, recorder.arrays, steady.arrays)

@@ -135,6 +135,7 @@ class BaseMotion(NamedTuple):
     on_step: int            # the first step on, where the body starts on its forced
     gain: tuple             # response (normal_start.py): (Re H, Im H)
     lift: np.ndarray        # (n,) the q of every node moving by 1 in Z
+    origin: np.ndarray      # (n,) zeros: q's preload (start_motion's reference)
     body_mass: float        # kg
 
 
@@ -318,7 +319,7 @@ class ImplicitRun(TimeLoop):
                           c.eta_y, scene.vibration.normal_amplitude,
                           *normal_phase(scene.vibration.normal_phase_deg),
                           first_step_on(scene), start_gain(scene, model), lift,
-                          model.block_mass)
+                          np.zeros_like(lift), model.block_mass)
         scheme = Scheme(dt, *self.coefficients, model.beta,
                         self.iteration_tolerance * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
                         still_substeps(scene))
@@ -409,7 +410,7 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
      recorder) = borrowed((operators, contact, params, work, q, v, a, states, normal, friction,
                            g_prev, scalars, sums, recorder))
     amplitude, omega, t_on, cos_theta, sin_theta, eta_y = base[:6]
-    amplitude_n, sin_n, cos_n, on_step, gain, lift, body_mass = base[6:]
+    amplitude_n, sin_n, cos_n, on_step, gain, lift, origin, body_mass = base[6:]
     lifts_off = amplitude_n > 0.0
     k_d, v_d, prescribed = drive
     spring = math.inf if prescribed else k_d   # the drive spring's stiffness (energy)
@@ -428,8 +429,8 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             # the state at t_n, a step before the first step on: onto the body's forced
             # response to the base's sinusoid there (normal_start.py), its contact
             # forces afresh; the base moves along it from t_n (normal_over_substeps)
-            start_motion(q, v, lift, operators.contact_dofs[:, 2], contact.area_share, gain,
-                         t - dt, dt, t_on, amplitude_n, omega, sin_n, cos_n, 0.0)
+            start_motion(q, origin, v, lift, operators.contact_dofs[:, 2], contact.area_share,
+                         gain, t - dt, dt, t_on, amplitude_n, omega, sin_n, cos_n, 0.0)
             phase = omega * (t - dt - t_on)
             z_on, vz_on = normal_displacement(amplitude_n, omega, sin_n, cos_n, math.sin(phase),
                                               math.cos(phase))

@@ -26,8 +26,8 @@ import numpy as np
 from ...core.series import averaging_steps
 from ..outputs import trouble
 from ..model.linalg import one_blas_thread
-from ..outputs.recording import (XB, YB, Integration, Recorder, State, initial_scalars, scene_columns,
-                        loop_stats, node_stride, run_in_chunks)
+from ..outputs.recording import (XB, YB, Integration, Recorder, State, initial_scalars,
+                                 loop_stats, node_stride, run_in_chunks, scene_columns)
 from ..outputs.steady import SteadyState
 
 

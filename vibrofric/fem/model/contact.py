@@ -184,7 +184,8 @@ def law_normal_force(n_i, nominal):
 def node_contact(slip_x, slip_y, u_z, v_z, dx_b, free_y, penalty_share, w, nominal, beta,
                  params, dt, state):
     """One node's step: (N_i, F_x, F_y) after the body moved by (slip_x, slip_y) and
-    reached the gap u_z at speed v_z relative to the base (module docstring), the base by dx_b and the free end by free_y; the
+    reached the gap u_z at speed v_z relative to the base (module docstring), the base
+    by dx_b and the free end by free_y; the
     node's law ``state`` is updated in place (the VFRIC call). N_i is the penalty
     force; the law sees law_normal_force(N_i, nominal) (``nominal``: the node's
     entry of nominal_normal)."""

@@ -166,7 +166,8 @@ def record(row, sums, kinetic, elastic):
 # m = min(0, g), g the node's gap). So a row recorded at step n + 1 holds
 #
 #     E_kin = 1/2 v_{n+1/2}^T M v_{n+1/2}
-#     E_el  = 1/2 q_n^T K q_{n+1} + sum_i [N0_i (q_z,n + q_z,n+1) / 2 + k_i (m_n m_{n+1} - m_0^2) / 2]
+#     E_el  = 1/2 q_n^T K q_{n+1}
+#             + sum_i [N0_i (q_z,n + q_z,n+1) / 2 + k_i (m_n m_{n+1} - m_0^2) / 2]
 #             + F_d,n F_d,n+1 / (2 k_d) + sum_i E_law,i(s_{n+1})
 #
 # and the sums add each step's mid-step works:

@@ -95,7 +95,8 @@ class NormalSwing:
     """The window's summed normal force as judged above (kind: "steady", "rocking",
     "forced" (a base moving along Z), "subharmonic" (its bouncing cycle spanning
     SUBHARMONIC_PERIODS cycles of f; forced then at f / k), "bouncing" (leaving the
-    base and landing off any such cycle) or "transient"); low/high over the whole window, forced the window's forced
+    base and landing off any such cycle) or "transient"); low/high over the whole
+    window, forced the window's forced
     fraction, end_low/end_high and end_forced over its end, free_frequency_hz the
     largest free line over the window (None where steady)."""
 
