@@ -219,7 +219,7 @@ def test_scene_keys_lists_every_key_with_its_value_default_and_unit():
     assert again.contact.law_values == scene.contact.law_values
     assert scene_module.to_dict(again) | {"contact": {}} == scene_module.to_dict(scene) | {
         "contact": {}} and again.contact.tables == scene.contact.tables
-    assert keys.loc["body.mass", "meaning"] == "the block's mass"   # the comment, less its unit
+    assert keys.loc["body.mass", "meaning"] == "the body's mass"   # the comment, less its unit
 
 
 def test_keys_command_is_the_api_in_a_table(capsys):

@@ -463,24 +463,22 @@ def test_a_sweep_asked_for_more_workers_than_points_runs_as_many_as_it_can_and_s
 @pytest.mark.parametrize("count", ["1000000000", "10000000000000000000000"])
 def test_a_grid_too_large_is_refused_in_one_line_before_it_is_expanded(tmp_path, count):
     """A range of 1e9 or 1e22 values is counted, not made (grid.Range): refused in one line
-    naming the grid and what it would take, exit 2, nothing written, in seconds and without
-    the memory a list of its values would take (1e9 floats: 24 GB before; the child's peak
-    is allowed 1 GB, several times what the command needs to load)."""
+    naming the grid and what it would take, exit 2, nothing written, and without the
+    memory a list of its values would take (1e9 floats: 24 GB before; the child's peak is
+    allowed 1 GB, several times what the command needs to load). Not timed: the
+    command's imports and a first compile take what the machine's load makes them."""
     import os
 
     grid = f"vibration.k_v=0:20:{count}"
     child = subprocess.Popen(command(["sweep", SCENE, "--grid", grid, "--out", str(tmp_path / "never")]),
                              env=child_environment(), cwd=ROOT, stderr=subprocess.PIPE, text=True)
-    started = time.monotonic()
     _, status, usage = os.wait4(child.pid, 0)
-    seconds = time.monotonic() - started
     child.returncode = os.waitstatus_to_exitcode(status)
     err = child.stderr.read().strip().splitlines()
     assert child.returncode == EXIT_BAD_INPUT and len(err) == 1, err
     assert err[0].startswith(f"vibrofric: invalid scene: --grid {grid}: {int(count):,} points would take")
     assert "of disk" in err[0] and "of computing on" in err[0]
     assert usage.ru_maxrss < 2**20      # KiB: 1 GiB
-    assert seconds < 60                 # the command's imports, under load; the check itself is instant
     assert list(tmp_path.iterdir()) == []
 
 

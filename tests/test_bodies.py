@@ -409,14 +409,6 @@ def test_a_bad_body_on_the_command_line_is_one_line_exit_2_nothing_written(tmp_p
     assert len(err) == 1 and "body.radius" in err[0] and "millimetres" in err[0]
 
 
-def test_the_fe_run_refuses_a_body_other_than_the_block_before_any_work(tmp_path, capsys):
-    from vibrofric.cli import EXIT_BAD_INPUT, main
-
-    out = tmp_path / "never"
-    assert main(["run", "scenes/pin.toml", "--out", str(out)]) == EXIT_BAD_INPUT
-    assert not out.exists() and "body.shape" in capsys.readouterr().err
-
-
 def test_meshing_a_body_leaves_a_callers_gmsh_options_as_they_were(tmp_path):
     with meshes.gmsh_model("caller") as gmsh:
         before = {name: gmsh.option.getNumber(name) for name in refinement.OPTIONS}

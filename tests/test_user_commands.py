@@ -251,7 +251,10 @@ def test_sweep_workers_die_with_their_parent(home):
                              cwd=home, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 120
     while len(workers := worker_pids(sweep.pid)) < 2:
-        assert time.monotonic() < deadline and sweep.poll() is None, sweep.stderr.read()
+        if time.monotonic() > deadline or sweep.poll() is not None:
+            sweep.kill()   # before reading its stderr, which its 300 s run would hold open
+            pytest.fail(f"the sweep started {len(workers)} workers in 120 s: "
+                        f"{sweep.communicate(timeout=30)[1]}")
         time.sleep(0.1)
     sweep.kill()  # kill -9: the parent cannot clean up
     sweep.wait()

@@ -36,7 +36,7 @@ def scene_names() -> list[str]:
     """The scenes that ship with the package, by name (the paper's cases).
 
     >>> scene_names()
-    ['coupled', 'longitudinal', 'transverse']
+    ['ball', 'coupled', 'longitudinal', 'pin', 'transverse']
     """
     folder = resources.files("vibrofric") / "scenes"
     return sorted(p.name[:-len(SCENE_SUFFIX)] for p in folder.iterdir()
