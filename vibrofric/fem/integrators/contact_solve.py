@@ -291,6 +291,11 @@ def newton_on_subset(rho, delta, G, subset, nodes, tangents, af1, jac):
                 for r in range(3):
                     s += G[pa, 3 * cb + r] * tangents[b, r, k]
                 small[a, 3 * b + k] = (1.0 if a == 3 * b + k else 0.0) - af1 * s
+    if not (np.isfinite(small).all() and np.isfinite(rhs).all()):
+        # a trial state gone non-finite (a shooting's Newton trial far off the orbit, on
+        # a ball rocking on 3 nodes): no Newton step; the iteration does not converge and
+        # the step ends in trouble (the cycle map's failed cycle), not in numba's LinAlgError
+        return
     d_s = np.linalg.solve(small, rhs)
     for b in range(nodes):
         cb = subset[b]
