@@ -307,3 +307,22 @@ def test_the_ball_rests_under_the_implicit_integrators(integrator):
     result = simulate.run_fe(scene)
     assert np.abs(result.series.x).max() < 1e-9
     assert result.series.extra["F_n"].min() == pytest.approx(scene.contact.F_N, rel=1e-3)
+
+
+def test_the_fe_model_meshes_the_ball_for_its_load(monkeypatch):
+    """The FE model's body is meshed for the scene's F_N (meshes.body_mesh's
+    normal_load), which refines the ball's "fine" mesh at its Hertz patch: without it the
+    fine ball rested on 3 nodes, as the coarse one does. The block's source entry is
+    as it was (its cache unchanged)."""
+    from vibrofric import meshes
+
+    asked = {}
+    monkeypatch.setattr(meshes, "body_mesh",
+                        lambda body, level, scene_dir=None, normal_load=None:
+                        asked.update(level=level, normal_load=normal_load))
+    ball = scenes.load("scenes/ball.toml").with_values({"fem.mesh": "fine", "contact.F_N": 40.0})
+    fe_model.body_of(ball)
+    assert asked == {"level": "fine", "normal_load": 40.0}
+    assert fe_model.body_source(ball, "fine")["F_N"] == 40.0
+    block = scenes.load("scenes/longitudinal.toml")
+    assert set(fe_model.body_source(block, "fine")) == {"body", "level"}
