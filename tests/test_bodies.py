@@ -409,6 +409,20 @@ def test_a_bad_body_on_the_command_line_is_one_line_exit_2_nothing_written(tmp_p
     assert len(err) == 1 and "body.radius" in err[0] and "millimetres" in err[0]
 
 
+@pytest.mark.slow   # the pin's model and its stable step: 33 s here, loaded
+def test_the_explicit_fe_run_refuses_the_pin_s_step_before_any_work(tmp_path, capsys):
+    """The pin's explicit stable step (3.8e-9 s at "coarse": its stiff contact and small
+    tetrahedra) is far below the scene's 1e-6 s: one line naming time.dt, nothing written."""
+    from vibrofric.cli import EXIT_BAD_INPUT, main
+
+    out = tmp_path / "never"
+    code = main(["run", "scenes/pin.toml", "--set", "fem.integrator=explicit", "--out", str(out)])
+    err = [line for line in capsys.readouterr().err.splitlines()
+           if line.startswith("vibrofric:") and "compiling" not in line]
+    assert code == EXIT_BAD_INPUT and not out.exists()
+    assert len(err) == 1 and "time.dt" in err[0] and "stable step" in err[0]
+
+
 def test_meshing_a_body_leaves_a_callers_gmsh_options_as_they_were(tmp_path):
     with meshes.gmsh_model("caller") as gmsh:
         before = {name: gmsh.option.getNumber(name) for name in refinement.OPTIONS}

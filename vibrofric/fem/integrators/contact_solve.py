@@ -178,9 +178,13 @@ def _node_over_step(c, qx, qy, qz, q_old, v_old, vt, qt, base_dx, base_free, bas
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def _contact_g(c, n_i, f_x, f_y, qx, qy, qz, tangent, assumed):
     """g_c = f_c + l q_c of node c from its forces (N, F_x, F_y) at (qx, qy, qz):
-    the friction acts on the body as -F, and g_z has l only where A holds it."""
-    return (-f_x + tangent[3 * c] * qx, -f_y + tangent[3 * c + 1] * qy,
-            n_i + tangent[3 * c + 2] * assumed[c] * qz)
+    the friction acts on the body as -F, and g has l only where A holds it (the nodes
+    in contact at the preload, implicit.py held): on a candidate off the preload's
+    patch an l q_c in g that A does not hold is a negative stiffness -l, which ran a
+    ball's rim nodes away (e-folding in ~2 us, whatever the step)."""
+    held = assumed[c]
+    return (-f_x + tangent[3 * c] * held * qx, -f_y + tangent[3 * c + 1] * held * qy,
+            n_i + tangent[3 * c + 2] * held * qz)
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
@@ -287,6 +291,11 @@ def newton_on_subset(rho, delta, G, subset, nodes, tangents, af1, jac):
                 for r in range(3):
                     s += G[pa, 3 * cb + r] * tangents[b, r, k]
                 small[a, 3 * b + k] = (1.0 if a == 3 * b + k else 0.0) - af1 * s
+    if not (np.isfinite(small).all() and np.isfinite(rhs).all()):
+        # a trial state gone non-finite (a shooting's Newton trial far off the orbit, on
+        # a ball rocking on 3 nodes): no Newton step; the iteration does not converge and
+        # the step ends in trouble (the cycle map's failed cycle), not in numba's LinAlgError
+        return
     d_s = np.linalg.solve(small, rhs)
     for b in range(nodes):
         cb = subset[b]

@@ -337,15 +337,16 @@ class ImplicitRun(TimeLoop):
         def steps(first, last):
             return kernel(*arguments(first, last))
 
-        tangent = self.tangent
+        held = self.tangent * np.repeat(self.assumed, 3)
 
         def rigid(motion):
             # q moves by the motion's q; g = f_c + l q_c (contact_solve._contact_g) by l q_c
-            # on the X and Y rows (a motion in the plane: Z and the forces stay)
+            # on the X and Y rows of the nodes A holds (a motion in the plane: Z and the
+            # forces stay)
             moved = system.rigid(motion)
             shift = np.zeros_like(g_prev)
             planar = np.tile([1.0, 1.0, 0.0], contacts)
-            shift[:nc] = tangent * planar * moved[system.contact_dofs.ravel()]
+            shift[:nc] = held * planar * moved[system.contact_dofs.ravel()]
             return {"q": moved, "v": np.zeros(n), "a": np.zeros(n), "g_prev": shift}
 
         return Started(steps, lambda: (model.u0 + system.expand(q), system.expand(v)),

@@ -110,7 +110,9 @@ def body_of(scene, level: str | None = None) -> meshes.BodyMesh:
     the paper's block, meshes.block_body(body.size, level)."""
     level = scene.fem.mesh if level is None else level
     if hasattr(meshes, "body_mesh"):
-        return meshes.body_mesh(scene.body, level, getattr(scene, "directory", None))
+        # F_N sizes a ball's Hertz patch at the levels that resolve it
+        return meshes.body_mesh(scene.body, level, getattr(scene, "directory", None),
+                                normal_load=scene.contact.F_N)
     return meshes.block_body(scene.body.size, level)
 
 
@@ -233,8 +235,12 @@ def cached_levels(scene) -> list[str]:
 def body_source(scene, level: str) -> dict:
     """What the model's arrays of ``scene``'s body at ``level`` are made from, short of
     the mesh itself (model_cache's source entries): the body section (its shape or mesh,
-    size, material, density, mass) and the level."""
-    return {"body": repr(scene.body), "level": level}
+    size, material, density, mass), the level and, on a body other than the block, F_N
+    (which sizes a ball's mesh at its patch: body_of)."""
+    source = {"body": repr(scene.body), "level": level}
+    if scene.body.mesh is not None or scene.body.shape != "block":
+        source["F_N"] = scene.contact.F_N
+    return source
 
 
 def patch_share(contact_area: np.ndarray, in_contact: np.ndarray) -> np.ndarray:

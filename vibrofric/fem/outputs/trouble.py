@@ -25,9 +25,9 @@ _WHAT = {
                        "(a diverging asperity update)",
     NORMAL_BLOWUP: f"the summed normal force exceeded {NORMAL_LIMIT} F_N (with a base moving "
                    f"along Z, {NORMAL_LIMIT} times F_N plus the impact at the base's speed)",
-    LIFT_OFF: "the block lost contact with the base (summed normal force 0)",
+    LIFT_OFF: "the body lost all contact with the base (summed normal force 0)",
     NOT_CONVERGED: "the contact iteration of the step did not converge (nodes lifting off and "
-                   "touching down within the step: the block is bouncing on its contact, or "
+                   "touching down within the step: the body is bouncing on its contact, or "
                    "the step is too long for the friction law)",
 }
 

@@ -1,0 +1,118 @@
+"""The FE ball and pin against the lumped model on the paper's Fig 7 vibration
+(docs/validation.md, "A ball and a pin against the lumped model").
+
+The lumped body is rigid on one contact spring, the law's k_t (contact.k_t, 80e6 N/m
+in scenes/ball.toml and scenes/pin.toml). The FE body rests on its preload's patch,
+each node on its share k_t a_i / A_0 of that spring (fe_model.patch_share), behind
+its own elastic compliance between its mass and the patch, which the lumped body
+lacks. What the FE contact amounts to, as the lumped body's one spring, is its
+tangential stiffness under the load the vibration puts on it: a uniform inertial
+load Q = m a along X on the preloaded body with its contact stuck (each patch node
+on its k_t a_i / A_0 in X and Y, on its penalty in Z), over the centre of mass's
+displacement:
+
+    k_FE = Q / delta_cm
+
+and of the body alone (the patch's nodes held: the law's springs made rigid),
+k_body, so that 1 / k_FE = 1 / k_t + 1 / k_body to the coupling of the two. For the
+ball, k_body against Mindlin's no-slip stiffness of an elastic sphere on a rigid
+flat, 8 G a / (2 - nu) (Johnson, Contact Mechanics, eq 7.41 with one body rigid),
+a the Hertz radius (3 F_N R / 4 E*)^(1/3) (eq 4.22): the coarse mesh holds the
+patch on 3 nodes, so its k_body is a mesh's, not Mindlin's.
+
+The lumped model (analytic, coupled stepper, the scene's time.dt and T) is run with
+k_t and with k_FE; with --fe, the FE model too (fem.integrator, time.method auto:
+the steady cycle by shooting, stepped through T where it finds none), its failure
+reported as such.
+
+    .venv/bin/python benchmarks/fe_body_vs_lumped.py [--mesh coarse] [--fe] [--integrator implicit]
+
+prints a markdown table.
+"""
+
+import argparse
+import math
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from vibrofric.analytic.solve import solve
+from vibrofric.api import load_scene
+from vibrofric.core.errors import NumericalError, Refusal
+from vibrofric.fem import run_fe
+from vibrofric.fem.model import fe_model
+from vibrofric.fem.simulate import answer_ratio
+
+BODIES = ("ball", "pin")
+RIGID = 1e6   # k_t times this holds the patch's nodes: the body's compliance alone
+
+
+def contact_stiffness(model, k_t: float) -> float:
+    """Q / delta_cm along X of the preloaded body, its patch stuck on springs k_t a_i / A_0
+    (X, Y) and its penalty (Z); Q a uniform acceleration's inertial load m_i a."""
+    springs = np.zeros(model.dofs)
+    patch = model.contact_nodes[model.in_contact0]
+    share = model.area_share[model.in_contact0]
+    springs[3 * patch] = springs[3 * patch + 1] = k_t * share
+    springs[3 * patch + 2] = model.penalty_share[model.in_contact0]
+    matrix = (model.disc.stiffness + sp.diags(springs)).tocsc()
+    mass = model.disc.mass
+    load = np.zeros(model.dofs)
+    load[0::3] = mass[0::3]                  # a = 1 m/s^2 along X
+    u = spla.spsolve(matrix, load)
+    delta = np.dot(mass[0::3], u[0::3]) / mass[0::3].sum()
+    return mass[0::3].sum() / delta
+
+
+def mindlin_stiffness(scene) -> float:
+    """8 G a / (2 - nu): an elastic sphere's no-slip tangential stiffness on a rigid flat."""
+    body = scene.body
+    e_star = body.E / (1.0 - body.nu ** 2)
+    a = (3.0 * scene.contact.F_N * body.radius / (4.0 * e_star)) ** (1.0 / 3.0)
+    return 8.0 * body.E / (2.0 * (1.0 + body.nu)) * a / (2.0 - body.nu)
+
+
+def lumped(scene, k_t: float) -> float:
+    _, summary = solve(scene.with_values({"contact.k_t": k_t}), "coupled")
+    return summary["F_dv_over_F_d0"]
+
+
+def fe_answer(scene, integrator: str) -> str:
+    start = time.perf_counter()
+    try:
+        result = run_fe(scene.with_values({"fem.integrator": integrator,
+                                           "time.error_estimate": False,
+                                           "fem.output_every": 0}))
+    except (NumericalError, Refusal) as error:
+        return f"fails ({str(error)[:90]}...)"
+    how = result.info["periodic"]["method"] if result.info.get("periodic") else "stepped"
+    return f"{answer_ratio(result, scene):.4f} ({how}, {time.perf_counter() - start:.0f} s)"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--mesh", default="coarse")
+    parser.add_argument("--fe", action="store_true", help="run the FE model too")
+    parser.add_argument("--integrator", default="implicit")
+    args = parser.parse_args()
+
+    print("| body | patch nodes | k_t (law) | k_body (FE) | Mindlin 8Ga/(2-nu) | k_FE | "
+          "lumped, k_t | lumped, k_FE | FE |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name in BODIES:
+        scene = load_scene(name, **{"fem.mesh": args.mesh})
+        model = fe_model.build_model(scene, None)
+        k_t = scene.contact.k_t
+        k_fe = contact_stiffness(model, k_t)
+        k_body = contact_stiffness(model, RIGID * k_t)
+        mindlin = f"{mindlin_stiffness(scene):.3g}" if scene.body.shape == "ball" else "-"
+        fe = fe_answer(scene, args.integrator) if args.fe else "-"
+        print(f"| {name} | {int(model.in_contact0.sum())} of {model.contact_nodes.size} | "
+              f"{k_t:.3g} | {k_body:.3g} | {mindlin} | {k_fe:.3g} | {lumped(scene, k_t):.4f} | "
+              f"{lumped(scene, k_fe):.4f} | {fe} |")
+
+
+if __name__ == "__main__":
+    main()
