@@ -129,8 +129,8 @@ def test_the_fe_and_lumped_normal_forces_share_one_plot(steady_run, steady):
     fig = plots.normal_force_figure(fe, scene, steady=steady, lumped=lumped)
     ax = fig.axes[0]
     fe_curve, lumped_curve = ax.get_lines()[:2]
-    assert fe_curve.get_label().startswith(plots.NORMAL_FORCES["F_n"][0])
-    assert lumped_curve.get_label().startswith(plots.NORMAL_FORCES["N"][0])
+    assert fe_curve.get_label().startswith("FE: " + plots.NORMAL_FORCES["F_n"][0])
+    assert lumped_curve.get_label().startswith("lumped: " + plots.NORMAL_FORCES["N"][0])
     if steady:
         _, rows = plots.steady_phase(series.t, scene.vibration.f)
         assert ax.get_xlabel() == plots.PHASE_LABEL

@@ -240,18 +240,22 @@ def normal_force_figure(series, scene, steady: bool = False, column: str = "F_n"
     phase; else over time, vibrated cycles as their mean and range where too many to
     draw (_history)."""
     fig, ax = figure((7, 3.5), RUN_DPI)
-    curves = [(series, column)] + ([(lumped, "N")] if lumped is not None else [])
-    subject = NORMAL_FORCES[column][1] if lumped is None else "the normal force, FE and lumped"
+    if lumped is None:
+        curves = [(series, column, NORMAL_FORCES[column][0])]
+        subject = NORMAL_FORCES[column][1]
+    else:
+        curves = [(series, column, f"FE: {NORMAL_FORCES[column][0]}"),
+                  (lumped, "N", f"lumped: {NORMAL_FORCES['N'][0]}")]
+        subject = "the normal force, FE and lumped"
     if steady and scene.vibrated:
-        for drawn, name in curves:
+        for drawn, name, label in curves:
             phase, rows = steady_phase(drawn.t, scene.vibration.f)
-            ax.plot(phase, np.asarray(drawn.extra[name])[rows], lw=1.0,
-                    label=NORMAL_FORCES[name][0])
+            ax.plot(phase, np.asarray(drawn.extra[name])[rows], lw=1.0, label=label)
         ax.set(xlabel=PHASE_LABEL, xlim=(0, 360), xticks=range(0, 361, 45),
                title=f"{subject}, the steady cycle ending at $T$")
     else:
-        for drawn, name in curves:
-            _history(ax, drawn.t, drawn.extra[name], scene, NORMAL_FORCES[name][0])
+        for drawn, name, label in curves:
+            _history(ax, drawn.t, drawn.extra[name], scene, label)
         ax.set(xlabel="time t (s)", title=subject)
     ax.axhline(scene.contact.F_N, color="k", ls=":", lw=0.8, label=r"$F_N$")
     ax.set(ylabel="normal reaction (N)")
