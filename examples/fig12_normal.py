@@ -79,6 +79,13 @@ if WITH_FE:
     fe_scene = scene.with_values({"time.steady_tolerance": 2e-3, "fem.output_every": 0})
     fe = vf.sweep(fe_scene, {"vibration.normal_amplitude": [0.0, 0.5 * A_loss],
                              "vibration.theta_deg": [0.0, 90.0, 180.0]}, fe=True)
+    for _, point in fe.iterrows():   # each FE point beside the lumped answer at it
+        lumped = by_angle[np.isclose(by_angle["vibration.normal_amplitude"],
+                                     point["vibration.normal_amplitude"])
+                          & (by_angle["vibration.theta_deg"] == point["vibration.theta_deg"])]
+        print(f"A_n = {point['vibration.normal_amplitude'] * 1e9:.1f} nm, theta = "
+              f"{point['vibration.theta_deg']:g}: FE {point['fe.F_dv_over_F_d0']:.4f}, lumped "
+              f"{lumped['F_dv_over_F_d0'].iloc[0]:.4f}")
 
 # %%
 fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8), sharey=True)

@@ -218,6 +218,31 @@ def test_an_fe_runs_plots_and_picture_are_those_drawn_in_one_process(tmp_path):
         assert (child / name).read_bytes() == (one / name).read_bytes(), name
 
 
+def test_an_fe_run_with_normal_motion_draws_the_lumped_n_beside_its_own(tmp_path):
+    """vibrofric run of a base moving along Z: normal_force.png has the FE summed normal
+    force and the analytic run's N on one plot, as drawn in one process (stand-ins: the
+    lumped run of 1e-7 m as both, the FE one's F_n its N plus a ripple)."""
+    import numpy as np
+
+    scene = scene_module.load(LONGITUDINAL, ["time.T=0.2", "vibration.normal_amplitude=1e-7"])
+    series, summary = solve(scene)
+    analytic, fe = written(series, scene), written(series, scene)
+    fe.extra["F_n"] = fe.extra["N"] * (1.0 + 0.01 * np.sin(2e4 * fe.t))
+    runs = {"FE": fe, "analytic": analytic}
+    steady = plot_worker.steady_labels({"FE": summary, "analytic": summary})
+    job = plot_worker.plots_job(runs, scene, tmp_path, fe=fe, steady=steady, fe_steady=True)
+    assert job["normal_steady"] and job["lumped_normal"].extra["N"] is analytic.extra["N"]
+    with plot_worker.PlotProcess("fe") as plotter:
+        with plotter.drawing(job):
+            pass
+    plots.normal_force_history(fe, scene, tmp_path / "one.png", True, "F_n", lumped=analytic)
+    assert (tmp_path / plot_worker.NORMAL_FORCE).read_bytes() == (tmp_path / "one.png").read_bytes()
+    # without normal motion the FE run's plot has its own curve only
+    plain = written(solve(scene_module.load(LONGITUDINAL, ["time.T=0.2"]))[0], scene)
+    assert "lumped_normal" not in plot_worker.plots_job({"FE": fe, "analytic": plain}, scene,
+                                                        tmp_path, fe=fe)
+
+
 def test_the_picture_draws_the_contact_face_coloured_by_its_pressure(tmp_path):
     """Left of the colour bar, the picture holds the colour map's colours over most of
     its range (the contact face, its pressure rising along x from 4e4 to 6e4 Pa), and

@@ -115,3 +115,26 @@ def test_the_lumped_normal_force_is_drawn_where_the_base_moves_along_z(method):
         assert ax.get_xlabel().startswith("time")
         # 0.2 s at 4 kHz after t_on: too many cycles to draw, each one's range shaded
         assert any(isinstance(c, PolyCollection) for c in ax.collections)
+
+
+@pytest.mark.parametrize("steady", [True, False])
+def test_the_fe_and_lumped_normal_forces_share_one_plot(steady_run, steady):
+    """vibrofric run of a base moving along Z: the FE summed normal force and the lumped
+    N on one axes (stand-ins: the stepper's series with normal forces added, the lumped
+    one dropping to 0 where it would leave the contact), each curve its own series'."""
+    scene, series, _ = steady_run
+    fe = SimpleNamespace(t=series.t, extra={"F_n": scene.contact.F_N + 0.01 * series.F_x})
+    lumped = SimpleNamespace(t=series.t,
+                             extra={"N": np.maximum(scene.contact.F_N + 0.02 * series.F_x, 0.0)})
+    fig = plots.normal_force_figure(fe, scene, steady=steady, lumped=lumped)
+    ax = fig.axes[0]
+    fe_curve, lumped_curve = ax.get_lines()[:2]
+    assert fe_curve.get_label().startswith("FE: " + plots.NORMAL_FORCES["F_n"][0])
+    assert lumped_curve.get_label().startswith("lumped: " + plots.NORMAL_FORCES["N"][0])
+    if steady:
+        _, rows = plots.steady_phase(series.t, scene.vibration.f)
+        assert ax.get_xlabel() == plots.PHASE_LABEL
+        np.testing.assert_array_equal(lumped_curve.get_ydata(), lumped.extra["N"][rows])
+        np.testing.assert_array_equal(fe_curve.get_ydata(), fe.extra["F_n"][rows])
+    else:
+        assert ax.get_xlabel().startswith("time")

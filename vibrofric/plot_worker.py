@@ -138,8 +138,9 @@ def plots_job(runs: dict, scene, directory: Path, fe=None, picture=None, steady=
               fe_steady: bool = False) -> dict:
     """What the plots of ``runs`` (a label to a TimeSeries) draw into ``directory``;
     with ``fe``, an FE run's TimeSeries, its normal force plot too (``fe_steady``: the
-    run answered by its steady cycle); without, the lumped body's normal force N of a
-    run whose base moves along Z (its series has N); with ``picture``, the FE run's
+    run answered by its steady cycle), and where another of ``runs`` has N (the base
+    moves along Z) the lumped N on the same plot; without, the lumped body's normal
+    force N of a run whose base moves along Z (its series has N); with ``picture``, the FE run's
     last node fields (FEResult.fields), the block's picture too. ``steady``: the labels of the runs
     answered by their steady cycle (steady_labels), drawn against the base's phase
     where all are (plots.drive_force_figure)."""
@@ -148,6 +149,12 @@ def plots_job(runs: dict, scene, directory: Path, fe=None, picture=None, steady=
     if fe is not None:
         job["normal"] = SimpleNamespace(t=fe.t, extra={"F_n": fe.extra["F_n"]})
         job["normal_steady"], job["normal_column"] = fe_steady, "F_n"
+        lumped = [(label, series) for label, series in runs.items()
+                  if series is not fe and "N" in series.extra]
+        if lumped:   # a base moving along Z: the lumped N beside the FE sum
+            label, series = lumped[0]
+            job["lumped_normal"] = SimpleNamespace(t=series.t, extra={"N": series.extra["N"]})
+            job["normal_steady"] = fe_steady and label in steady
     else:   # the analytic command's one run, where its base moves along Z
         lumped = [(label, series) for label, series in runs.items() if "N" in series.extra]
         if lumped:
@@ -221,7 +228,8 @@ def serve(kind: str) -> None:
     plots.friction_last_cycles(job["last_cycles"], job["scene"], directory / LAST_CYCLES)
     if "normal" in job:
         plots.normal_force_history(job["normal"], job["scene"], directory / NORMAL_FORCE,
-                                   job["normal_steady"], job["normal_column"])
+                                   job["normal_steady"], job["normal_column"],
+                                   job.get("lumped_normal"))
 
 
 if __name__ == "__main__":

@@ -229,22 +229,33 @@ NORMAL_FORCES = {
 }
 
 
-def normal_force_figure(series, scene, steady: bool = False, column: str = "F_n"):
+def normal_force_figure(series, scene, steady: bool = False, column: str = "F_n",
+                        lumped=None):
     """A normal force against time (``series.extra[column]``, NORMAL_FORCES): the FE
     model's summed normal reaction (steady at F_N in a sound run), or the lumped body's
-    contact force N of a base moving along Z (analytic/normal.py: 0 out of contact). A
-    run answered by its steady cycle (``steady``): that cycle against the base's phase;
-    a stepped run: over time, its vibrated cycles as their mean and range where too
-    many to draw (_history)."""
+    contact force N of a base moving along Z (analytic/normal.py: 0 out of contact).
+    ``lumped``: the lumped body's series (its ``extra["N"]``) drawn beside an FE run's
+    on the same axes (vibrofric run of a base moving along Z). Runs answered by their
+    steady cycle (``steady``: all the drawn ones are): that cycle against the base's
+    phase; else over time, vibrated cycles as their mean and range where too many to
+    draw (_history)."""
     fig, ax = figure((7, 3.5), RUN_DPI)
-    label, subject = NORMAL_FORCES[column]
+    if lumped is None:
+        curves = [(series, column, NORMAL_FORCES[column][0])]
+        subject = NORMAL_FORCES[column][1]
+    else:
+        curves = [(series, column, f"FE: {NORMAL_FORCES[column][0]}"),
+                  (lumped, "N", f"lumped: {NORMAL_FORCES['N'][0]}")]
+        subject = "the normal force, FE and lumped"
     if steady and scene.vibrated:
-        phase, rows = steady_phase(series.t, scene.vibration.f)
-        ax.plot(phase, np.asarray(series.extra[column])[rows], lw=1.0, label=label)
+        for drawn, name, label in curves:
+            phase, rows = steady_phase(drawn.t, scene.vibration.f)
+            ax.plot(phase, np.asarray(drawn.extra[name])[rows], lw=1.0, label=label)
         ax.set(xlabel=PHASE_LABEL, xlim=(0, 360), xticks=range(0, 361, 45),
                title=f"{subject}, the steady cycle ending at $T$")
     else:
-        _history(ax, series.t, series.extra[column], scene, label)
+        for drawn, name, label in curves:
+            _history(ax, drawn.t, drawn.extra[name], scene, label)
         ax.set(xlabel="time t (s)", title=subject)
     ax.axhline(scene.contact.F_N, color="k", ls=":", lw=0.8, label=r"$F_N$")
     ax.set(ylabel="normal reaction (N)")
@@ -253,6 +264,7 @@ def normal_force_figure(series, scene, steady: bool = False, column: str = "F_n"
     return fig
 
 
-def normal_force_history(series, scene, path, steady: bool = False, column: str = "F_n") -> None:
+def normal_force_history(series, scene, path, steady: bool = False, column: str = "F_n",
+                         lumped=None) -> None:
     """normal_force_figure() as PNG."""
-    normal_force_figure(series, scene, steady, column).savefig(path, **RUN_PNG)
+    normal_force_figure(series, scene, steady, column, lumped).savefig(path, **RUN_PNG)
