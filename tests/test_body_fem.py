@@ -192,6 +192,9 @@ def test_a_patch_that_comes_back_is_refused_not_looped(monkeypatch):
             return u
 
     monkeypatch.setattr(preload, "symmetric_lu", lambda matrix, order=None: Alternating())
+    # the condensed first step as the whole system's: the pulling node opens
+    monkeypatch.setattr(preload, "patch_iteration",
+                        lambda lu, z, dofs, k, gap0, y0: gap0 + y0 <= 0.0)
     nodes = np.array([0, 1])
     with pytest.raises(PatchUnresolved, match="refine the mesh") as raised:
         preload.static_preload(np.eye(6), np.zeros(6), nodes, np.ones(2), np.full(2, 0.5),
@@ -326,3 +329,31 @@ def test_the_fe_model_meshes_the_ball_for_its_load(monkeypatch):
     assert fe_model.body_source(ball, "fine")["F_N"] == 40.0
     block = scenes.load("scenes/longitudinal.toml")
     assert set(fe_model.body_source(block, "fine")) == {"body", "level"}
+
+
+def test_the_condensed_patch_iteration_finds_the_whole_systems_patch(monkeypatch):
+    """The preload's patch found on the candidates' Z from one factorization
+    (preload.patch_iteration) is the one the whole system's iteration finds (a
+    factorization a patch), and u0 the same to rounding (1e-9 of its largest value:
+    both end in a solve with that patch's springs, from other first steps)."""
+    from vibrofric.fem.model import preload
+
+    scene = scenes.load("scenes/ball.toml", ["fem.mesh=\"coarse\""])
+    model = fe_model._built(scene, None)
+    share = model.contact_area / model.contact_area.sum()
+    args = (model.disc.stiffness, model.load, model.contact_nodes, model.penalty_share, share,
+            scene.law_bounds.stiffness, scene.contact.F_N, None, model.initial_gap)
+    factorizations = []
+    factorize = preload.symmetric_lu
+    monkeypatch.setattr(preload, "symmetric_lu",
+                        lambda matrix, order=None: factorizations.append(1) or factorize(matrix, order))
+    condensed = preload.static_preload(*args)
+    # A_0's and the found patch's: a wrong patch would have taken the whole-system steps on
+    assert len(factorizations) == 2
+    monkeypatch.setattr(preload, "patch_iteration",   # one step of the whole system's iteration
+                        lambda lu, z, dofs, k, gap0, y0: gap0 + y0 <= 0.0)
+    whole = preload.static_preload(*args)
+    assert len(factorizations) > 4
+    assert 0 < condensed[2].sum() < model.contact_nodes.size     # the patch did shrink
+    assert np.array_equal(condensed[2], whole[2])
+    assert np.abs(condensed[0] - whole[0]).max() <= 1e-9 * np.abs(whole[0]).max()
