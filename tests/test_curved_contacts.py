@@ -27,9 +27,14 @@ def _own_model_cache(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def pulls(tmp_path_factory):
+def body(tmp_path_factory):
+    """The hemisphere on the fast mesh, its top the drive group."""
+    return pb.ball(tmp_path_factory.mktemp("ball"), POLE)
+
+
+@pytest.fixture(scope="module")
+def pulls(body):
     """(body, stuck, pulled): the held ball's stuck pull (mu = 10) and its pull at mu = 0.5."""
-    body = pb.ball(tmp_path_factory.mktemp("ball"), POLE)
     dt = pb.stable_step(POLE)
     stuck = pb.run(body, pb.pull_scene(pb.STUCK_MU, pb.PULL_TIME, dt))
     pulled = pb.run(body, pb.pull_scene(pb.MU, pb.PULL_TIME, dt))
@@ -38,18 +43,21 @@ def pulls(tmp_path_factory):
 
 @pytest.mark.slow
 def test_the_held_ball_s_displacement_is_cattaneo_mindlin_s(pulls):
-    """x(Q) - (C_stuck - C_0) Q against delta(Q) (tests/pulled_ball.py delta_errors): on
-    the coarse mesh -6.7%, -2.8%, -3.1% at q = 0.3, 0.6, 0.9 (its slip front moves by whole
-    rings of nodes), inside 5% on the finer mesh (benchmarks/cattaneo_mindlin.py). 8%:
-    what the coarse mesh resolves, a third of the error a ball that rolls or a contact
-    that never slips would make (delta's nonlinear part is 20-25% of it at q = 0.9)."""
+    """x(Q) - (C_stuck - C_0) Q against delta(Q) on the quasi-static curves
+    (tests/pulled_ball.py delta_errors) within Cattaneo-Mindlin's 5% on the coarse mesh
+    (measured -1.8%, -2.0%, -1.2% at q = 0.3, 0.6, 0.9; without averaging out the ball's
+    ringing, -6.7% at 0.3); and the slip's own part x(Q) - C_stuck Q within 10% at q = 0.9
+    (measured -5%; at 0.3 and 0.6 the coarse mesh's discrete slip front is 34% and 16%
+    short of Mindlin's thin annulus: benchmarks/cattaneo_mindlin.py)."""
     _, stuck, pulled = pulls
     # the stuck contact is Mindlin's no-slip one plus the bulk's shear: C_stuck above C_0,
-    # by the bulk's share of the 10 mm hemisphere (measured 10.1%): 25% would be a mesh
+    # by the bulk's share of the 10 mm hemisphere (measured 10.7%): 25% would be a mesh
     # whose stuck patch is much softer than Mindlin's
     assert 1.0 < pb.stuck_compliance(stuck) / pb.no_slip_compliance() < 1.25
-    for q, (total, _) in pb.delta_errors(pulled, stuck, (0.3, 0.6, 0.9)).items():
-        assert abs(total) < 0.08, (q, total)
+    errors = pb.delta_errors(pulled, stuck, (0.3, 0.6, 0.9))
+    for q, (total, _) in errors.items():
+        assert abs(total) < 0.05, (q, total)
+    assert abs(errors[0.9][1]) < 0.10, errors[0.9]
 
 
 @pytest.mark.slow
@@ -85,3 +93,16 @@ def test_the_roller_s_strip_at_mid_length_is_hertz_s():
     assert a_fit == pytest.approx(a, rel=0.03)
     assert p0_fit == pytest.approx(p0, rel=0.05)
 
+
+@pytest.mark.slow
+def test_the_held_ball_s_cycle_dissipates_mindlin_deresiewicz_s_energy(body):
+    """The loop's area over a steady cycle at Q* ~ 0.6 mu P against Johnson's eq 7.59 at
+    the measured Q* (pulled_ball.cycle_scene, cycle_dissipation). On the fast mesh +8.9%
+    at Q* = 0.617 mu P (benchmarks/mindlin_deresiewicz.py), +12.9% at 0.628 with another
+    amplitude and step: the loop moves by whole rings of slipping nodes. 15%: that, and
+    far below the factor the loop changes by between q = 0.3 and 0.6 (12x)."""
+    result = pb.run(body, pb.cycle_scene(0.6, pb.stable_step(POLE)))
+    Q, W = pb.cycle_dissipation(result)
+    assert 0.5 < Q / (pb.MU * pb.LOAD) < 1.0      # the cycle's amplitude as aimed
+    closed = cm.mindlin_deresiewicz_dissipation(Q, pb.MU, pb.LOAD, pb.hertz_radius(), pb.E, pb.NU)
+    assert W == pytest.approx(closed, rel=0.15)
