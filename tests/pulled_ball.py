@@ -121,10 +121,11 @@ def run(body, scene):
 
 
 def ringing_period(stuck) -> float:
-    """The period of the held ball's free vibration that the drive's start leaves ringing
-    through the pull, s: the strongest line of the stuck run's x against its straight
-    line in F_d (measured: 15.2 kHz, +-0.3 um of x, undamped to the end: the damping acts
-    at the mesh's top mode)."""
+    """The period of the held ball's vibration that rings through the pull, s: the
+    strongest line of the stuck run's x against its straight line in F_d (measured:
+    15.2 kHz, +-0.3 um of x, undamped to the end: the damping acts at the mesh's top
+    mode). The cycled ball rings alike at 1e-9 m/s, so its source is not the drive's
+    start; it is not pinned down."""
     s = stuck.series
     F, x = s.F_d, s.x
     late = x > x.max() / 3
