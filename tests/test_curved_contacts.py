@@ -48,7 +48,8 @@ def test_the_held_ball_s_displacement_is_cattaneo_mindlin_s(pulls):
     (measured -1.8%, -2.0%, -1.2% at q = 0.3, 0.6, 0.9; without averaging out the ball's
     ringing, -6.7% at 0.3); and the slip's own part x(Q) - C_stuck Q within 10% at q = 0.9
     (measured -5%; at 0.3 and 0.6 the coarse mesh's discrete slip front is 34% and 16%
-    short of Mindlin's thin annulus: benchmarks/cattaneo_mindlin.py)."""
+    short of Mindlin's thin annulus, the 100 um mesh's 34% and 10.5%:
+    benchmarks/cattaneo_mindlin.py)."""
     _, stuck, pulled = pulls
     # the stuck contact is Mindlin's no-slip one plus the bulk's shear: C_stuck above C_0,
     # by the bulk's share of the 10 mm hemisphere (measured 10.7%): 25% would be a mesh
@@ -99,7 +100,8 @@ def test_the_held_ball_s_cycle_dissipates_mindlin_deresiewicz_s_energy(body):
     """The loop's area over a steady cycle at Q* ~ 0.6 mu P against Johnson's eq 7.59 at
     the measured Q* (pulled_ball.cycle_scene, cycle_dissipation). The fast mesh does NOT
     meet the closed form's 10%: it dissipates 35% more at Q* = 0.58 mu P (71% more at
-    0.29: benchmarks/mindlin_deresiewicz.py, docs/validation.md). The bounds hold that
+    0.29), the 100 um mesh 4.9% more (benchmarks/mindlin_deresiewicz.py,
+    docs/validation.md). The bounds hold that
     measured state, the loop above eq 7.59 and within 50% of it, so that a change to the
     contact that moves the loop shows; tighten them as the loop converges."""
     result = pb.run(body, pb.cycle_scene(0.6, pb.stable_step(POLE)))
