@@ -13,9 +13,12 @@ from pathlib import Path
 from vibrofric import meshes
 
 
-def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=None, order=1):
+def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=None, order=1,
+               drive=False):
     """A BodyMesh of the hemisphere written to ``directory``/hemisphere-....msh (its cells
-    of gmsh's ``order``: 2 for the refusal of second-order cells)."""
+    of gmsh's ``order``: 2 for the refusal of second-order cells). With ``drive`` the flat
+    top is also the "drive" group (drive.attach = "drive-group"): the tangential load of
+    the Cattaneo-Mindlin checks acts where the normal load does, far from the contact."""
     size = radius / 4 if size is None else size
     name = f"hemisphere-{radius:g}-{pole_size:g}-{fine_radius:g}-{size:g}-{order}"
     path = Path(directory) / f"{name}.msh"
@@ -54,8 +57,10 @@ def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=No
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         gmsh.write(str(path))
     assert pole, "the sphere's pole is no vertex of its OpenCASCADE surface"
-    return meshes.BodyMesh(path=path, facet_groups={"contact": 1, "load": 2}, cell_group=1,
-                           volume=2.0 / 3.0 * math.pi * radius ** 3, key=name,
+    groups = {"contact": 1, "load": 2, **({"drive": 2} if drive else {})}
+    return meshes.BodyMesh(path=path, facet_groups=groups, cell_group=1,
+                           volume=2.0 / 3.0 * math.pi * radius ** 3,
+                           key=name + ("-drive" if drive else ""),
                            description=f"hemisphere R = {radius:g} m, {pole_size:g} m at its pole")
 
 

@@ -1,0 +1,111 @@
+"""The FE model against the closed forms of curved elastic contacts (vibrofric/analytic/
+contact_mechanics.py; docs/validation.md, "Curved contacts"): a held hemisphere pulled
+tangentially (Cattaneo-Mindlin: tests/pulled_ball.py), cycled (Mindlin-Deresiewicz), and
+the roller's line contact (Hertz). On the coarse meshes; benchmarks/cattaneo_mindlin.py,
+benchmarks/mindlin_deresiewicz.py and benchmarks/roller_hertz.py refine them."""
+
+import pytest
+
+pytest.importorskip("dolfinx")
+
+import pulled_ball as pb  # noqa: E402
+
+from vibrofric.analytic import contact_mechanics as cm  # noqa: E402
+
+# The fast mesh: 150 um at the pole within 1.2 mm (a = 0.515 mm: 3.4 elements across the
+# patch's radius, ~40 nodes closed), 1644 nodes, 2.1e-8 s steps.
+POLE = 1.5e-4
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _own_model_cache(tmp_path_factory):
+    """The balls' models in a cache of this module's (as tests/test_body_fem.py)."""
+    patch = pytest.MonkeyPatch()
+    patch.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
+    yield
+    patch.undo()
+
+
+@pytest.fixture(scope="module")
+def body(tmp_path_factory):
+    """The hemisphere on the fast mesh, its top the drive group."""
+    return pb.ball(tmp_path_factory.mktemp("ball"), POLE)
+
+
+@pytest.fixture(scope="module")
+def pulls(body):
+    """(body, stuck, pulled): the held ball's stuck pull (mu = 10) and its pull at mu = 0.5."""
+    dt = pb.stable_step(POLE)
+    stuck = pb.run(body, pb.pull_scene(pb.STUCK_MU, pb.PULL_TIME, dt))
+    pulled = pb.run(body, pb.pull_scene(pb.MU, pb.PULL_TIME, dt))
+    return body, stuck, pulled
+
+
+@pytest.mark.slow
+def test_the_held_ball_s_displacement_is_cattaneo_mindlin_s(pulls):
+    """x(Q) - (C_stuck - C_0) Q against delta(Q) on the quasi-static curves
+    (tests/pulled_ball.py delta_errors) within Cattaneo-Mindlin's 5% on the coarse mesh
+    (measured -1.8%, -2.0%, -1.2% at q = 0.3, 0.6, 0.9; without averaging out the ball's
+    ringing, -6.7% at 0.3); and the slip's own part x(Q) - C_stuck Q within 10% at q = 0.9
+    (measured -5%; at 0.3 and 0.6 the coarse mesh's discrete slip front is 34% and 16%
+    short of Mindlin's thin annulus, the 100 um mesh's 34% and 10.5%:
+    benchmarks/cattaneo_mindlin.py)."""
+    _, stuck, pulled = pulls
+    # the stuck contact is Mindlin's no-slip one plus the bulk's shear: C_stuck above C_0,
+    # by the bulk's share of the 10 mm hemisphere (measured 10.7%): 25% would be a mesh
+    # whose stuck patch is much softer than Mindlin's
+    assert 1.0 < pb.stuck_compliance(stuck) / pb.no_slip_compliance() < 1.25
+    errors = pb.delta_errors(pulled, stuck, (0.3, 0.6, 0.9))
+    for q, (total, _) in errors.items():
+        assert abs(total) < 0.05, (q, total)
+    assert abs(errors[0.9][1]) < 0.10, errors[0.9]
+
+
+@pytest.mark.slow
+def test_the_held_ball_s_stick_radius_is_cattaneo_mindlin_s(pulls):
+    """The stick radius at the pull's end (Q = 0.94 mu P, c = 0.4 a) and at Q = 0.6 mu P
+    (c = 0.74 a) within half a node spacing (75 um, 0.15 a) of a (1 - q)^(1/3): the rule
+    (pulled_ball.stick_radius) reads the front between two nodes, to half their spacing.
+    Measured 24 um at the end, +6.3% and -1.1% of c at q = 0.5 and 0.8
+    (benchmarks/cattaneo_mindlin.py)."""
+    body, _, pulled = pulls
+    a = pb.hertz_radius()
+    Q = pb.MU * pb.LOAD * 0.6
+    to_q = pb.run(body, pb.pull_scene(pb.MU, pb.time_at(pulled, Q), pb.stable_step(POLE)))
+    for run in (pulled, to_q):
+        Q_end = float(run.series.F_d[-1])
+        c = cm.stick_radius(Q_end, pb.MU, pb.LOAD, a)
+        assert abs(pb.stick_radius(run) - c) < 0.5 * POLE, (Q_end, pb.stick_radius(run), c)
+        assert 0.0 < pb.stick_radius(run) < a
+
+
+@pytest.mark.slow
+def test_the_roller_s_strip_at_mid_length_is_hertz_s():
+    """Plane-strain Hertz's half-width at mid-length within 3% (the closed form's
+    criterion) at fem.mesh = "medium" (a = 0.54 mm, the contact edge R / 24 = 0.21 mm):
+    measured -2.8%, from -16% at "coarse" (benchmarks/roller_hertz.py); the peak pressure
+    within 5% (measured +2%): the strip's centre node carries the field's top."""
+    import roller
+    from vibrofric.fem.model import fe_model
+
+    a, p0 = roller.hertz()
+    model = fe_model.build_model(roller.roller_scene(".", "medium"), None)
+    a_fit, p0_fit = roller.mid_length_fit(model)
+    assert a_fit == pytest.approx(a, rel=0.03)
+    assert p0_fit == pytest.approx(p0, rel=0.05)
+
+
+@pytest.mark.slow
+def test_the_held_ball_s_cycle_dissipates_mindlin_deresiewicz_s_energy(body):
+    """The loop's area over a steady cycle at Q* ~ 0.6 mu P against Johnson's eq 7.59 at
+    the measured Q* (pulled_ball.cycle_scene, cycle_dissipation). The fast mesh does NOT
+    meet the closed form's 10%: it dissipates 35% more at Q* = 0.58 mu P (71% more at
+    0.29), the 100 um mesh 4.9% more (benchmarks/mindlin_deresiewicz.py,
+    docs/validation.md). The bounds hold that
+    measured state, the loop above eq 7.59 and within 50% of it, so that a change to the
+    contact that moves the loop shows; tighten them as the loop converges."""
+    result = pb.run(body, pb.cycle_scene(0.6, pb.stable_step(POLE)))
+    Q, W = pb.cycle_dissipation(result)
+    assert 0.5 < Q / (pb.MU * pb.LOAD) < 1.0      # the cycle's amplitude as aimed
+    closed = cm.mindlin_deresiewicz_dissipation(Q, pb.MU, pb.LOAD, pb.hertz_radius(), pb.E, pb.NU)
+    assert closed < W < 1.5 * closed
