@@ -115,7 +115,7 @@ print(json.dumps({"file": vf.__file__, "names": vf.scene_names(),
 """
     answer = json.loads(run([str(python), "-c", code], cwd=work, env=env).splitlines()[-1])
     assert "site-packages" in answer["file"] and not answer["file"].startswith(str(ROOT))
-    assert answer["names"] == ["coupled", "longitudinal", "transverse"]
+    assert answer["names"] == ["ball", "coupled", "longitudinal", "pin", "transverse"]
     assert 0.0 < answer["ratio"] < 1.0 and answer["rows"] > 100
 
 
@@ -138,7 +138,8 @@ print(scene.name, sorted(p.name for p in periodic_vs_transient.SCENES.glob("*.to
       [label for label, _, _ in plans.LAWS][-1])
 """
     assert run([str(python), "-c", code], cwd=work, env=env).split("\n")[0] == \
-        "longitudinal ['coupled.toml', 'longitudinal.toml', 'transverse.toml'] " \
+        "longitudinal ['ball.toml', 'coupled.toml', 'longitudinal.toml', 'pin.toml', " \
+        "'transverse.toml'] " \
         "LuGre, F_s = 1.2 F_c, v_s = 2 mm/s"
 
 
