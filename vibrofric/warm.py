@@ -104,7 +104,7 @@ def _fe_runs(scene) -> bool:
     model takes the scene (scene.check_fe_scene)."""
     from .scene import SceneError, check_fe_scene
 
-    if scene.body.mesh is not None or scene.body.shape != "block":
+    if not scene.body.is_block:
         return False
     try:
         check_fe_scene(scene)

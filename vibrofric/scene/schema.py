@@ -44,6 +44,11 @@ class Body:
     density: typing.Optional[float] = None  # kg/m^3; default mass / volume
     gravity: float = 9.81                  # m/s^2, acting in -Z
 
+    @property
+    def is_block(self) -> bool:
+        """Whether the body is the paper's block (no mesh of the user's, shape "block")."""
+        return self.mesh is None and self.shape == "block"
+
 
 # The [body] keys each shape takes (required, optional) beside mass, E, nu, density and
 # gravity: a key set for another shape is refused, never ignored (validation.py).

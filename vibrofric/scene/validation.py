@@ -80,7 +80,7 @@ def _check_body(scene) -> None:
     if body.shape == "cylinder" and not 0.0 <= body.edge_radius < min(body.radius, body.height):
         raise SceneError("body.edge_radius", f"must lie in [0, {min(body.radius, body.height):g}) "
                                              f"(below the radius and the height), got {body.edge_radius}")
-    if body.mesh is not None or body.shape != "block":
+    if not body.is_block:
         try:
             refinement.check_level(scene.fem.mesh)
         except ValueError as err:
@@ -123,7 +123,7 @@ def validate(scene: Scene) -> None:
     if scene.contact.k_n is not None and scene.contact.k_n <= 0:
         raise SceneError("contact.k_n", f"must be > 0, got {scene.contact.k_n}")
     if (scene.vibration.normal_amplitude > 0.0 and scene.contact.k_n is None
-            and (scene.body.mesh is not None or scene.body.shape != "block")):
+            and not scene.body.is_block):
         raise SceneError("contact.k_n", "needed for a base moving along Z under a body other "
                                         "than the block: its default is matched to the FE "
                                         "block's bounce (core/bounce.py)")
@@ -208,8 +208,8 @@ def check_fe_scene(scene) -> None:
     faster than its step resolves (normal_step_bound; on the block, whose penalty is
     known before its mesh is: another body's run stops at the first step past
     the normal-force limit, fem/outputs/trouble.py)."""
-    is_block = scene.body.mesh is None and scene.body.shape == "block"
-    if scene.vibration.normal_amplitude > 0.0 and (is_block or scene.fem.penalty is not None):
+    if scene.vibration.normal_amplitude > 0.0 and (scene.body.is_block
+                                                   or scene.fem.penalty is not None):
         bound = normal_step_bound(scene)
         if scene.vibration.normal_amplitude > bound:
             approach = scene.vibration.normal_amplitude * scene.omega * scene.time.dt

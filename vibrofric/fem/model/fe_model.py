@@ -105,24 +105,19 @@ class FEModel:
 
 def body_of(scene, level: str | None = None) -> meshes.BodyMesh:
     """The scene's body as a placed mesh (meshes.BodyMesh) at refinement ``level``
-    (default fem.mesh): the one place that says which body a scene is. Where meshes
-    offers body_mesh (built-in shapes, the user's mesh) it decides; else the body is
-    the paper's block, meshes.block_body(body.size, level)."""
+    (default fem.mesh): the one place that says which body a scene is (meshes.body_mesh;
+    a user's mesh is named by its absolute path once the scene is read)."""
     level = scene.fem.mesh if level is None else level
-    if hasattr(meshes, "body_mesh"):
-        # F_N sizes a ball's Hertz patch at the levels that resolve it
-        return meshes.body_mesh(scene.body, level, getattr(scene, "directory", None),
-                                normal_load=scene.contact.F_N)
-    return meshes.block_body(scene.body.size, level)
+    # F_N sizes a ball's Hertz patch at the levels that resolve it
+    return meshes.body_mesh(scene.body, level, normal_load=scene.contact.F_N)
 
 
 def block_size(scene):
     """body.size where the scene's body is the paper's block (body_of's default), else
     None: the block keeps the whole-face default penalty of the lumped model's bounce
     (core/bounce.py; penalty_shares)."""
-    body = scene.body
-    if getattr(body, "shape", "block") == "block" and getattr(body, "mesh", None) is None:
-        return body.size
+    if scene.body.is_block:
+        return scene.body.size
     return None
 
 
@@ -238,7 +233,7 @@ def body_source(scene, level: str) -> dict:
     size, material, density, mass), the level and, on a body other than the block, F_N
     (which sizes a ball's mesh at its patch: body_of)."""
     source = {"body": repr(scene.body), "level": level}
-    if scene.body.mesh is not None or scene.body.shape != "block":
+    if not scene.body.is_block:
         source["F_N"] = scene.contact.F_N
     return source
 
