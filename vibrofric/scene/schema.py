@@ -267,9 +267,15 @@ class Scene:
         body = self.body
         a, b, c = body.size
         density = body.density if body.density is not None else body.mass / (a * b * c)
-        penalty = self.fem.penalty if self.fem.penalty is not None else default_penalty(
-            body.E, body.size)
-        return bounce_stiffness(body.mass, body.E, density, body.size, penalty)
+        return bounce_stiffness(body.mass, body.E, density, body.size, self.block_penalty)
+
+    @property
+    def block_penalty(self) -> float:
+        """The FE block's penalty stiffness of its whole contact face, N/m: fem.penalty,
+        else its default (core/bounce.py default_penalty, the FE model's on the block)."""
+        if self.fem.penalty is not None:
+            return self.fem.penalty
+        return default_penalty(self.body.E, self.body.size)
 
     @property
     def omega(self) -> float:

@@ -10,7 +10,6 @@ from ..meshes import MESH_SUFFIXES, level_counts
 from ..meshes import checks as mesh_checks
 from ..meshes import refinement, shapes
 from ..sense import nonsense
-from ..core.bounce import default_penalty
 from ..core.law_limits import NORMAL_LIMIT
 from ..core.series import shortest_stepped_T
 from .errors import SceneError, law_refused
@@ -213,19 +212,12 @@ def check_fe_scene(scene) -> None:
         bound = normal_step_bound(scene)
         if scene.vibration.normal_amplitude > bound:
             approach = scene.vibration.normal_amplitude * scene.omega * scene.time.dt
-            taken = NORMAL_LIMIT * scene.contact.F_N / fe_penalty(scene)
+            taken = NORMAL_LIMIT * scene.contact.F_N / scene.block_penalty
             raise SceneError("vibration.normal_amplitude",
                              f"{scene.vibration.normal_amplitude:g} m moves the base into the body "
                              f"by up to A_n w dt = {approach:.3g} m a step, more than the penalty "
                              f"takes in one ({NORMAL_LIMIT:g} F_N / k_pen = {taken:.3g} m): use "
                              f"vibration.normal_amplitude <= {bound:.3g} m or a smaller time.dt")
-
-
-def fe_penalty(scene) -> float:
-    """The FE contact's penalty stiffness of the whole face, N/m: fem.penalty, else the
-    default (core/bounce.py default_penalty, fem/model/contact.py's)."""
-    return scene.fem.penalty if scene.fem.penalty is not None else default_penalty(
-        scene.body.E, scene.body.size)
 
 
 def normal_step_bound(scene) -> float:
@@ -244,7 +236,7 @@ def normal_step_bound(scene) -> float:
     bounds is how far the motion's sampling lets the base run into the body.) On the
     paper's block (k_pen = 4.8e10 N/m, F_N = 55 N) at 4 kHz and dt = 1e-6 s: A_n <= 4.6e-7 m,
     2.7 times the amplitude at which the lumped body starts to lose contact."""
-    return NORMAL_LIMIT * scene.contact.F_N / (fe_penalty(scene) * scene.omega * scene.time.dt)
+    return NORMAL_LIMIT * scene.contact.F_N / (scene.block_penalty * scene.omega * scene.time.dt)
 
 
 def _check_averaging_window(scene) -> None:

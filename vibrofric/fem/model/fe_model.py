@@ -47,7 +47,6 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from ... import meshes
-from ...core.bounce import default_penalty as block_penalty
 from ...core.errors import DriveTipsBlock, StepTooLong
 from . import stability
 from . import model_cache
@@ -268,9 +267,8 @@ def penalty_shares(scene, contact_area: np.ndarray, area_share: np.ndarray,
     """
     if scene.fem.penalty is not None:
         return scene.fem.penalty, scene.fem.penalty * area_share
-    size = block_size(scene)
-    if scene.fem.contact_stiffness is None and size is not None:
-        whole = block_penalty(scene.body.E, size)
+    if scene.fem.contact_stiffness is None and block_size(scene) is not None:
+        whole = scene.block_penalty
         return whole, whole * area_share
     k_c = scene.fem.contact_stiffness
     if k_c is None:
