@@ -439,3 +439,27 @@ def test_a_mesh_is_named_relative_to_the_scene_file_or_on_the_command_line_to_he
         EXAMPLES / "puck.toml")))
     monkeypatch.chdir(tmp_path)
     assert scene_module.load("again.toml").body.mesh == str(EXAMPLES / "puck.geo")
+
+
+def test_groups_naming_the_same_faces_become_one_group_under_both_names(tmp_path, cache):
+    """The top named both "load" and "drive" (a part pressed and pulled from its top): one
+    facet tag, both names; the FE model's facets carry one tag each, so two groups on the
+    same faces would otherwise leave one of them empty."""
+    groups = ('Physical Surface("contact") = {5};\n'
+              'Physical Surface("load") = {6};\nPhysical Surface("drive") = {6};')
+    body = user_body(tmp_path, box_geo(groups=groups), mass=STEEL * 0.02 ** 3)
+    mesh = meshes.body_mesh(body, "coarse", cache_dir=cache)
+    assert mesh.tag("load") == mesh.tag("drive") != mesh.tag("contact")
+    _, found = read(mesh)
+    top = found[next(name for name, tag in mesh.facet_groups.items()
+                     if tag == mesh.tag("load") and name in found)]
+    assert len(top) > 0
+
+
+def test_groups_sharing_only_some_faces_are_refused(tmp_path, cache):
+    groups = ('Physical Surface("contact") = {5};\n'
+              'Physical Surface("load") = {6};\nPhysical Surface("drive") = {1, 6};')
+    body = user_body(tmp_path, box_geo(groups=groups), mass=STEEL * 0.02 ** 3)
+    error = refusal(body, cache)
+    assert error.key == "body.mesh"
+    assert "'load' and 'drive' share some surfaces but not all" in str(error)

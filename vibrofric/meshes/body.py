@@ -34,7 +34,7 @@ from .mesh_data import FIRST_ORDER_CELLS, read_model
 
 # Part of every cache file name of a shape or a user's body: bump it when the meshes
 # written here change.
-_FORMAT = "b1"
+_FORMAT = "b2"
 
 
 @dataclass(frozen=True)
@@ -132,7 +132,9 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
         if source is not None:
             sized += " where the file sets none"
     dz = facts["placement"][2]
-    return BodyMesh(path=path, facet_groups=data.facet_groups(),
+    groups = data.facet_groups()
+    groups.update({name: groups[other] for name, other in facts["same_as"].items()})
+    return BodyMesh(path=path, facet_groups=groups,
                     cell_group=data.cell_groups()[0].tag, volume=volume,
                     key=f"{stem} {hashlib.sha256(path.read_bytes()).hexdigest()}",
                     placement=tuple(facts["placement"]),
@@ -152,6 +154,7 @@ def _write(path: Path, notes: Path, body, level, source, normal_load, what) -> N
         else:
             sizes = user_mesh.load(gmsh, source, level)
             user_mesh.ensure_volume_group(gmsh.model)
+        same_as = user_mesh.merge_shared_groups(gmsh.model, what)
         data = read_model(gmsh)
         checks.check_cells(data, what)
         checks.check_groups(data, what)
@@ -161,7 +164,8 @@ def _write(path: Path, notes: Path, body, level, source, normal_load, what) -> N
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         try:
             Path(f"{tmp}.json").write_text(json.dumps({"placement": list(shift),
-                                                       "sizes": sizes and list(sizes)}))
+                                                       "sizes": sizes and list(sizes),
+                                                       "same_as": same_as}))
             gmsh.write(f"{tmp}.msh")
             os.replace(f"{tmp}.json", notes)
             os.replace(f"{tmp}.msh", path)

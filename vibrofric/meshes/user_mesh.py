@@ -14,6 +14,10 @@
 
 Each is loaded into the current gmsh model (``load``); a file gmsh cannot read, or
 one without a "contact" group, is refused (core.errors.BadBody) before any meshing.
+
+Groups may name the same surfaces (the top of a part both its "load" and its "drive"):
+a facet carries one tag in the FE model, so such groups become one group under two
+names (``merge_shared_groups``); groups that share only some surfaces are refused.
 """
 
 import hashlib
@@ -131,6 +135,33 @@ def ensure_volume_group(model) -> int:
     model.addPhysicalGroup(3, [tag for _, tag in model.getEntities(3)], 1)
     model.setPhysicalName(3, 1, "body")
     return 1
+
+
+NAMED_GROUPS = ("contact", "load", "drive")
+
+
+def merge_shared_groups(model, what: str) -> dict:
+    """{name: the group it is the same as}: of the named facet groups (NAMED_GROUPS), each
+    that names the same surfaces as one before it is removed from ``model`` and
+    answered by that one's name; groups sharing only some of their surfaces are refused
+    (BadBody: a facet carries one group in the FE model)."""
+    tags = {model.getPhysicalName(2, tag): tag for _, tag in model.getPhysicalGroups(2)}
+    surfaces = {name: frozenset(int(s) for s in model.getEntitiesForPhysicalGroup(2, tags[name]))
+                for name in NAMED_GROUPS if name in tags}
+    same_as = {}
+    names = list(surfaces)
+    for i, name in enumerate(names):
+        for earlier in names[:i]:
+            if earlier in same_as or not surfaces[name] & surfaces[earlier]:
+                continue
+            if surfaces[name] != surfaces[earlier]:
+                raise BadBody(f"{what}: its groups '{earlier}' and '{name}' share some surfaces "
+                              "but not all; a facet belongs to one group, so make them the "
+                              "same surfaces or separate ones")
+            same_as[name] = earlier
+            model.removePhysicalGroups([(2, tags[name])])
+            break
+    return same_as
 
 
 def _gmsh_message(err) -> str:
