@@ -12,6 +12,12 @@ class NumericalError(RuntimeError):
     """A run whose numbers went wrong (NaN, a diverging update); never written as results."""
 
 
+class BodyLeftContact(NumericalError):
+    """A run stopped because the body left its contact with the base: it tipped over the
+    edge of its patch, or lost all contact. Physics, not numbers; stopped and reported
+    like numerical trouble (nothing written)."""
+
+
 class Refusal(ValueError):
     """A model that cannot run the scene as given, refused before any work."""
 

@@ -11,7 +11,8 @@ range of steps; the TimeLoop owns the rest, the same for all of them:
     the chunks           between ParaView frames and progress reports
                          (recording.run_in_chunks)
     the failures         a trouble code from the compiled step becomes a
-                         NumericalError with the integrator's hint (outputs/trouble.py)
+                         NumericalError with the integrator's hint (outputs/trouble.py);
+                         a body that tips over its contact stops the run (outputs/tipping.py)
     the statistics       the loop's, the integrator's own, the early stop's
 
     run.name, run.info, run.choice, run.cost_per_step  (registry.py)
@@ -25,6 +26,7 @@ import numpy as np
 
 from ...core.series import averaging_steps
 from ..outputs import trouble
+from ..outputs.tipping import TipWatch
 from ..model.linalg import one_blas_thread
 from ..outputs.recording import (XB, YB, Integration, Recorder, State, initial_scalars,
                                  loop_stats, node_stride, run_in_chunks, scene_columns)
@@ -104,6 +106,7 @@ class TimeLoop:
                             node_stride(scene))
         steady = SteadyState(scene)
         started = self.start(contact, scalars, recorder, steady)
+        tipping = TipWatch(self.model, recorder, dt, 1.0 / scene.vibration.f)
 
         def state(step):
             u, v = started.fields()
@@ -115,12 +118,13 @@ class TimeLoop:
             failed, code, stop = started.steps(first, last)
             if code != trouble.OK:
                 raise trouble.failure(failed, code, scene, self.hint)
+            tipping.scan(first, stop or last)
             return stop
 
         onset = math.floor(scene.vibration.t_on / dt) + 1   # the first step the base vibrates in
         with one_blas_thread():
             last, loop_time = run_in_chunks(plan.steps, frame, every, state, advance, progress,
-                                            onset)
+                                            onset, longest=recorder.full)
         stats = {**loop_stats(scalars, loop_time), **self.stats(scalars, last),
                  **steady.report(last)}
         window = min(averaging_steps(scene), recorder.full, last)

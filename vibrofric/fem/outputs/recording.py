@@ -240,7 +240,8 @@ def finish_step(t, t_on, f_d, f_n, f_x, f_y, x, y, x_b, y_b, friction_magnitude,
 PROGRESS_STEPS = 5000
 
 
-def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, onset=0):
+def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, onset=0,
+                  longest=None):
     """Run steps 1..steps by ``advance(first, last) -> stop step or 0``, returning to
     Python for the ParaView frames, frame(state(i)) at i = 0, every ``every``
     steps and at the last step, for ``progress(i, steps)`` every
@@ -255,8 +256,9 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, 
     times slower at once (every contact node's friction sub-steps start there): no
     chunk runs across it, and the chunks start again from one step there. (Grown
     over the quick steps before it, a chunk of thousands of steps ran for minutes
-    past the onset with SIGTERM waiting.) Returns (the last step run, the loop's
-    seconds)."""
+    past the onset with SIGTERM waiting.) No chunk is longer than ``longest`` steps
+    (None: no bound): what a caller reads back from a ring after each chunk fits in it.
+    Returns (the last step run, the loop's seconds)."""
     frames = frame is not None and every > 0
     if progress is not None:
         progress(0, steps)
@@ -273,6 +275,8 @@ def run_in_chunks(steps: int, frame, every: int, state, advance, progress=None, 
             last = min(last, (first // PROGRESS_STEPS + 1) * PROGRESS_STEPS)
         if first < onset:
             last = min(last, onset - 1)
+        if longest is not None:
+            last = min(last, first + longest - 1)
         called = time.perf_counter()
         stop = advance(first, last)
         took = time.perf_counter() - called
