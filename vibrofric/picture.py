@@ -1,14 +1,14 @@
-"""A picture of the block at the run's last step (matplotlib's 3D axes, Agg).
+"""A picture of the body at the run's last step (matplotlib's 3D axes, Agg).
 
 The contact face coloured by contact pressure, with the friction traction as
 arrows (their direction; the range of their magnitude is written below), inside
-the block drawn translucent, seen from below, in front of the drive, on axes in
-mm. It is drawn from the node fields of the run's last step (the last
+the body's bounding box drawn translucent, seen from below, in front of the drive,
+on axes in mm. It is drawn from the node fields of the run's last step (the last
 ParaView frame's: fem/outputs/paraview.py), which the command sends to its plot
 process (plot_worker.py, kind "fe"), so it is drawn beside the plots with the
 library already loaded there and without reading the frame back.
 
-The job (``picture_rows``) holds only what the picture draws: the block's
+The job (``picture_rows``) holds only what the picture draws: the body's
 bounding box, the contact nodes' positions, pressure and friction traction, and
 the time.
 """
@@ -25,6 +25,7 @@ AXES = (0.0, 0.08, 0.78, 0.82)        # left, bottom, width, height: fractions o
 COLOUR_BAR = (0.78, 0.2, 0.03, 0.56)   # left, bottom, width, height: fractions of the figure
 SUBDIVISIONS = 1  # each triangle of the contact face split in 4^SUBDIVISIONS, the pressure
                   # interpolated linearly over them: a smooth map without shading support
+PLAN_DIGITS = 9   # the contact nodes' plan positions, in units of the face's extent
 
 
 def picture_rows(fields: dict) -> dict:
@@ -45,11 +46,25 @@ def warm_up() -> None:
 
 
 def _box_faces(low, high) -> list:
-    """The six faces of the block's bounding box, each four corners."""
+    """The six faces of the body's bounding box, each four corners."""
     corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1])
                         for z in (low[2], high[2])])
     faces = ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5))
     return [corners[list(face)] for face in faces]
+
+
+def _face_triangles(contact):
+    """The contact nodes' Delaunay triangulation in plan. Their positions are rounded to
+    PLAN_DIGITS of the face's extent first: on a tetrahedral face the nodes along a
+    straight edge are collinear but for rounding (1e-20 m off x = 0), and the slivers
+    Delaunay then puts between them make matplotlib's interpolation refuse the whole
+    triangulation ("Triangulation is invalid")."""
+    from matplotlib.tri import Triangulation
+
+    plan = contact[:, :2]
+    scale = float(np.ptp(plan, axis=0).max()) or 1.0
+    plan = np.round(plan / scale, PLAN_DIGITS) * scale
+    return Triangulation(plan[:, 0], plan[:, 1])
 
 
 def draw(rows: dict, png_path) -> None:
@@ -57,7 +72,7 @@ def draw(rows: dict, png_path) -> None:
     from matplotlib import cm, colors, ticker
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
-    from matplotlib.tri import Triangulation, UniformTriRefiner
+    from matplotlib.tri import UniformTriRefiner
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     (low, high), contact = rows["box"], rows["contact"]
@@ -70,7 +85,7 @@ def draw(rows: dict, png_path) -> None:
     ax.add_collection3d(Poly3DCollection(_box_faces(low, high), facecolor=(0.83, 0.83, 0.83, 0.2),
                                          edgecolor="black", linewidth=0.6))
 
-    fine, fine_pressure = UniformTriRefiner(Triangulation(contact[:, 0], contact[:, 1])) \
+    fine, fine_pressure = UniformTriRefiner(_face_triangles(contact)) \
         .refine_field(pressure, subdiv=SUBDIVISIONS)
     norm = colors.Normalize(pressure.min(), pressure.max())
     corners = fine.triangles
@@ -110,8 +125,8 @@ def draw(rows: dict, png_path) -> None:
                  label="contact pressure (Pa)")
     fig.suptitle(f"t = {rows['t']:.6g} s: contact pressure, friction traction (arrows)",
                  fontsize=10)
-    fig.text(0.02, 0.02, "block undeformed, seen from below, sliding along +x; arrows: the "
-             "friction traction's direction, all one length,\n"
+    fig.text(0.02, 0.02, "body undeformed (its bounding box), seen from below, sliding along +x; "
+             "arrows: the friction traction's direction, all one length,\n"
              f"its magnitude {magnitude.min():.3g} to {magnitude.max():.3g} Pa "
-             "(the force of the block on the base, paper sign)", fontsize=8)
+             "(the force of the body on the base, paper sign)", fontsize=8)
     fig.savefig(png_path, **PNG)
