@@ -4,7 +4,10 @@ invalid or unrunnable one raises SceneError naming its key."""
 import math
 from pathlib import Path
 
-from ..core.errors import BadBody
+import numpy as np
+
+from ..core.base_table import WHOLE_STEPS, check_closed, check_harmonics, read_motion, whole_steps
+from ..core.errors import BadBaseMotion, BadBody
 from ..friction_law import LawError
 from ..meshes import MESH_SUFFIXES, level_counts
 from ..meshes import checks as mesh_checks
@@ -12,7 +15,7 @@ from ..meshes import refinement, shapes
 from ..sense import nonsense
 from ..core.law_limits import NORMAL_LIMIT
 from ..core.series import shortest_stepped_T
-from .errors import SceneError, law_refused
+from .errors import SceneError, law_refused, refused
 from .schema import CHOICES, SHAPE_KEYS, Body, Scene, to_dict
 
 
@@ -121,8 +124,7 @@ def validate(scene: Scene) -> None:
         raise SceneError("contact.eta_y", f"must lie in [0, 1], got {scene.contact.eta_y}")
     if scene.contact.k_n is not None and scene.contact.k_n <= 0:
         raise SceneError("contact.k_n", f"must be > 0, got {scene.contact.k_n}")
-    if (scene.vibration.normal_amplitude > 0.0 and scene.contact.k_n is None
-            and not scene.body.is_block):
+    if moves_along_z(scene) and scene.contact.k_n is None and not scene.body.is_block:
         raise SceneError("contact.k_n", "needed for a base moving along Z under a body other "
                                         "than the block: its default is matched to the FE "
                                         "block's bounce (core/bounce.py)")
@@ -130,6 +132,7 @@ def validate(scene: Scene) -> None:
         raise SceneError("vibration.normal_phase_deg",
                          f"{scene.vibration.normal_phase_deg:g} deg is the phase of a normal motion "
                          "the scene does not have: set vibration.normal_amplitude > 0")
+    _check_base_table(scene)
     if scene.fem.penalty is not None and scene.fem.penalty <= 0:
         raise SceneError("fem.penalty", f"must be > 0, got {scene.fem.penalty}")
     if scene.fem.contact_stiffness is not None and scene.fem.contact_stiffness <= 0:
@@ -197,16 +200,76 @@ def validate(scene: Scene) -> None:
             raise SceneError("time.dt", f"{time.dt} s resolves a vibration cycle of 1/f = "
                                         f"{1 / vib.f:.3g} s in {steps_per_cycle:.3g} steps; "
                                         "at least 10 are needed")
-        # periodic and auto answer by the orbit, if they can (a base moving along Z too)
-        if time.method == "transient":
+        # periodic and auto answer by the orbit, if they can (a base moving along Z too);
+        # a measured motion that ends has no orbit: auto steps it
+        if time.method == "transient" or not vib.repeats:
             _check_averaging_window(scene)
+
+
+def moves_along_z(scene) -> bool:
+    """Whether the base moves along Z: a normal_amplitude, a harmonic with a z, or a measured
+    motion with a z_b column not all 0 (an unreadable file: False, refused by
+    _check_base_table)."""
+    vib = scene.vibration
+    if vib.normal_amplitude > 0.0 or any(h.z != 0.0 for h in vib.harmonics):
+        return True
+    if vib.motion is None:
+        return False
+    try:
+        return bool(np.any(read_motion(vib.motion).z != 0.0))
+    except BadBaseMotion:
+        return False
+
+
+def _check_base_table(scene) -> None:
+    """A base motion given per step (core/base_table.py): a measured motion file that
+    reads (and closes on itself where periodic), alone in moving the base, with a method
+    that can run it; harmonics of positive integer orders."""
+    vib = scene.vibration
+    try:
+        check_harmonics(vib.harmonics)
+    except BadBaseMotion as err:
+        raise refused(err) from None
+    if vib.motion is None:
+        if vib.motion_periodic:
+            raise SceneError("vibration.motion_periodic", "says how a measured motion repeats: "
+                                                          "set vibration.motion")
+        return
+    for key, given in (("vibration.k_v", vib.k_v > 0.0),
+                       ("vibration.normal_amplitude", vib.normal_amplitude > 0.0),
+                       ("vibration.harmonics", bool(vib.harmonics))):
+        if given:
+            raise SceneError(key, f"vibration.motion {vib.motion!r} moves the base alone: "
+                                  f"remove {key} (or vibration.motion)")
+    try:
+        motion = read_motion(vib.motion)
+        if vib.motion_periodic:
+            check_closed(motion, vib.motion)
+    except BadBaseMotion as err:
+        raise refused(err) from None
+    if not vib.motion_periodic and scene.time.method == "periodic":
+        raise SceneError("time.method", "\"periodic\" needs a motion that repeats: the measured "
+                                        "motion holds its last position after it ends "
+                                        "(vibration.motion_periodic false); use \"transient\" or "
+                                        "\"auto\"")
+    if (vib.motion_periodic and scene.time.method == "periodic"
+            and whole_steps(motion.span, scene.time.dt) is None):
+        raise SceneError("time.dt", f"{scene.time.dt:g} s does not divide the measured motion's "
+                                    f"period {motion.span:g} s into whole steps (to "
+                                    f"{WHOLE_STEPS:g} relative), as time.method \"periodic\" "
+                                    "needs")
 
 
 def check_fe_scene(scene) -> None:
     """Refuse, before any work, a scene the FE model cannot run: a base moving along Z
     faster than its step resolves (normal_step_bound; on the block, whose penalty is
     known before its mesh is: another body's run stops at the first step past
-    the normal-force limit, fem/outputs/trouble.py)."""
+    the normal-force limit, fem/outputs/trouble.py); a base motion given per step,
+    which only the lumped model reads (core/base_table.py)."""
+    if scene.vibration.sampled:
+        key = "vibration.motion" if scene.vibration.motion is not None else "vibration.harmonics"
+        raise SceneError(key, "the FE model moves its base by the paper's sine alone: a "
+                              "measured motion or harmonics run on the lumped model")
     if scene.vibration.normal_amplitude > 0.0 and (scene.body.is_block
                                                    or scene.fem.penalty is not None):
         bound = normal_step_bound(scene)
