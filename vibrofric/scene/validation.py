@@ -207,11 +207,17 @@ def validate(scene: Scene) -> None:
 
 
 def moves_along_z(scene) -> bool:
-    """Whether the base moves along Z: a normal_amplitude, a harmonic with a z, or a measured
-    motion with a z_b column not all 0 (an unreadable file: False, refused by
+    """Whether the base moves along Z: a normal_amplitude, or a table that does
+    (table_moves_along_z)."""
+    return scene.vibration.normal_amplitude > 0.0 or table_moves_along_z(scene)
+
+
+def table_moves_along_z(scene) -> bool:
+    """Whether a base motion given per step moves along Z: a harmonic with a z, or a
+    measured motion with a z_b column not all 0 (an unreadable file: False, refused by
     _check_base_table)."""
     vib = scene.vibration
-    if vib.normal_amplitude > 0.0 or any(h.z != 0.0 for h in vib.harmonics):
+    if any(h.z != 0.0 for h in vib.harmonics):
         return True
     if vib.motion is None:
         return False
@@ -264,12 +270,21 @@ def check_fe_scene(scene) -> None:
     """Refuse, before any work, a scene the FE model cannot run: a base moving along Z
     faster than its step resolves (normal_step_bound; on the block, whose penalty is
     known before its mesh is: another body's run stops at the first step past
-    the normal-force limit, fem/outputs/trouble.py); a base motion given per step,
-    which only the lumped model reads (core/base_table.py)."""
+    the normal-force limit, fem/outputs/trouble.py); a base motion given per step
+    (core/base_table.py) other than in the plane, stepped by the explicit integrator."""
     if scene.vibration.sampled:
         key = "vibration.motion" if scene.vibration.motion is not None else "vibration.harmonics"
-        raise SceneError(key, "the FE model moves its base by the paper's sine alone: a "
-                              "measured motion or harmonics run on the lumped model")
+        if table_moves_along_z(scene):
+            raise SceneError(key, "moves the base along Z: the FE model takes a base motion "
+                                  "given per step in the plane only (the lumped model "
+                                  "takes its Z)")
+        if scene.fem.integrator != "explicit":
+            raise SceneError("fem.integrator", f"\"{scene.fem.integrator}\": only the explicit "
+                                               f"integrator reads {key}; use \"explicit\"")
+        if scene.time.method != "transient":
+            raise SceneError("time.method", f"\"{scene.time.method}\": the FE model steps {key} "
+                                            "through time.T (its periodic solver does not read "
+                                            "it); use \"transient\"")
     if scene.vibration.normal_amplitude > 0.0 and (scene.body.is_block
                                                    or scene.fem.penalty is not None):
         bound = normal_step_bound(scene)

@@ -31,6 +31,10 @@ shadow form (outputs/energy.py explicit_energy_step).
 A base moving along Z (vibration.normal_amplitude > 0): each contact node's gap is
 measured against z_b(t_{n+1}) and its dashpot against the base's speed
 (model/contact.py), and the body starts on its forced response (normal_start.py).
+
+A base motion given per step in the plane (vibration.harmonics, vibration.motion without
+z: core/base_table.py) adds its table's x_b, y_b to the sine's at each step, as the
+lumped model does; stepped only (scene/validation.py check_fe_scene).
 """
 
 import math
@@ -40,6 +44,7 @@ from numba import njit
 
 from ...core.base_motion import (base_displacement, normal_displacement, normal_phase,
                                  vibration_axis)
+from ...core.base_table import base_table, table_row
 from ...friction_law import law_kernel
 from ...friction_law.contract import FASTMATH
 from ...core.errors import NoEnergyBalance
@@ -167,6 +172,7 @@ def explicit_steps(first, last, dt,
                    sliding_length, attach_nodes, attach_weights, k_d, v_d, prescribed,
                    amplitude, omega, t_on, cos_theta, sin_theta,
                    amplitude_n, sin_n, cos_n, initial_gap, on_step, start_gain, lift, face_z,
+                   table, table_from, table_period,
                    F_N, mu_max, normal_limit, use_energy, normal0, v_old, k_q, k_v, sums,
                    reference, u, v, work, force_sum, disp, disp_new, vel_z,
                    states, normal, friction, scalars, recorder, steady):
@@ -187,6 +193,9 @@ def explicit_steps(first, last, dt,
     contact nodes' Z (``face_z``). With
     ``use_energy`` the balance's sums (energy.py, the explicit shadow form) grow
     each step: v_old, k_q, k_v are its scratch vectors, ``normal0`` the preload's forces.
+    ``table`` (from step ``table_from``, repeating every ``table_period`` steps, 0: its
+    last row held; no rows: none) adds the base's in-plane motion given per step
+    (core/base_table.py) to the sine's.
     """
     row = recorder[0]
     xb, yb = scalars[XB], scalars[YB]
@@ -222,6 +231,10 @@ def explicit_steps(first, last, dt,
         u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
                                                          cos_phase, cos_step, sin_step)
         xb_new, yb_new = u_base * cos_theta, u_base * sin_theta
+        k = table_row(table, table_from, table_period, i)
+        if k >= 0:   # the in-plane motion given per step (core/base_table.py), added
+            xb_new += table[k, 0]
+            yb_new += table[k, 1]
         zb_new = vzb_new = 0.0
         if lifts_off and t >= t_on:
             zb_new, vzb_new = normal_displacement(amplitude_n, omega, sin_n, cos_n, sin_phase,
@@ -330,6 +343,9 @@ class ExplicitRun(TimeLoop):
         lift = np.tile([0.0, 0.0, 1.0], dofs // 3)       # every node's Z: the rigid bounce
         face_z = 3 * model.contact_nodes + 2             # the contact nodes' Z
         energy_vectors = [np.zeros(dofs if scene.fem.energy else 0) for _ in range(3)]
+        motion = base_table(scene.vibration, scene.omega, dt, scene.vibration.t_on,
+                            first_step_on(scene), scene.steps)
+        table = (motion.rows, motion.first_step, motion.period)
         sums = np.zeros(SUMS)
 
         def arguments(first, last):
@@ -342,7 +358,7 @@ class ExplicitRun(TimeLoop):
                 scene.drive.prescribed,
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                 scene.vibration.normal_amplitude, sin_n, cos_n, model.initial_gap,
-                first_step_on(scene), start_gain(scene, model), lift, face_z,
+                first_step_on(scene), start_gain(scene, model), lift, face_z, *table,
                 c.F_N, scene.mu_max, normal_force_limit(scene, model), scene.fem.energy,
                 model.normal0, *energy_vectors, sums,
                 model.u0, u, v, work, force_sum, disp, disp_new, vel_z,
