@@ -146,6 +146,7 @@ GOOD = "t,x_b,y_b,z_b\n0,0,0,0\n1e-4,1e-8,0,0\n2e-4,0,0,0\n"
     ("t,x_b,y_b\n0,0,0\n2e-4,1e-9,0\n1e-4,0,0\n", "", "vibration.motion", "does not increase"),
     ("t,x_b,y_b\n0,0,0\n", "", "vibration.motion", "at least 2"),
     ("t,x_b,y_b\n0,0,0\n1e-4,1e-9,0\n", "", "vibration.motion", "differs from the first"),
+    ("t,x_b,y_b\n0,0,0\n1e-4,1,0\n2e-4,0,0\n", "", "vibration.motion", "1e+04 m/s"),
     (GOOD, "k_v = 2.0", "vibration.k_v", "moves the base alone"),
     (GOOD, "normal_amplitude = 1e-9", "vibration.normal_amplitude", "moves the base alone"),
     (GOOD, "harmonics = [{order = 2, x = 1e-9}]", "vibration.harmonics", "moves the base alone"),
@@ -177,6 +178,8 @@ def test_a_motion_that_ends_is_refused_the_periodic_method(tmp_path):
     ("[{x = 1e-9}]", "vibration.harmonics"),
     ("[{order = 2, w = 1e-9}]", "vibration.harmonics"),
     ("[{order = 2, x = \"big\"}]", "vibration.harmonics[1].x"),
+    ("[{order = 30, x = 1e-9}]", "vibration.harmonics"),     # 8.3 steps a cycle at 120 kHz
+    ("[{order = 2, y = 2e-2}]", "vibration.harmonics"),      # 1e3 m/s, past 0.1 c in steel
 ])
 def test_bad_harmonics_are_refused_naming_the_key(tmp_path, harmonics, key):
     with pytest.raises(SceneError) as err:

@@ -74,6 +74,12 @@ class Harmonic:
     phase_y_deg: float = 0.0
     phase_z_deg: float = 0.0
 
+    def __str__(self) -> str:
+        """As a scene writes it, its order and the keys not 0: {order = 2, x = 2e-08}."""
+        keys = [f"{name} = {value:.12g}" for name, value in vars(self).items()
+                if name != "order" and value != 0.0]
+        return "{" + ", ".join([f"order = {self.order}", *keys]) + "}"
+
 
 @dataclass(frozen=True)
 class BaseTable:

@@ -193,6 +193,12 @@ def validate(scene: Scene) -> None:
                          f"{scene.v_a:.3g} m/s, beyond {BASE_SPEED_BOUND:g} of the speed of "
                          f"sound in the body sqrt(E/rho) = {body_sound_speed:.4g} m/s: no "
                          "solid carries that motion elastically")
+    if scene.vibration.sampled and (speed := table_speed(scene)) > BASE_SPEED_BOUND * body_sound_speed:
+        key = "vibration.motion" if scene.vibration.motion is not None else "vibration.harmonics"
+        raise SceneError(key, f"moves the base at up to {speed:.3g} m/s in the plane, beyond "
+                              f"{BASE_SPEED_BOUND:g} of the speed of sound in the body "
+                              f"sqrt(E/rho) = {body_sound_speed:.4g} m/s: no solid carries that "
+                              "motion elastically")
     if scene.vibrated:
         vib, time = scene.vibration, scene.time
         steps_per_cycle = 1.0 / (vib.f * time.dt)
@@ -227,6 +233,17 @@ def table_moves_along_z(scene) -> bool:
         return False
 
 
+def table_speed(scene) -> float:
+    """The base's largest in-plane speed, m/s, where its motion is given per step: the
+    sine's v_a plus each harmonic's n w sqrt(x^2 + y^2) (a bound), or a measured motion's
+    fastest chord between its samples (its linear interpolant's)."""
+    vib = scene.vibration
+    if vib.motion is not None:
+        motion = read_motion(vib.motion)
+        return float(np.max(np.hypot(np.diff(motion.x), np.diff(motion.y)) / np.diff(motion.t)))
+    return scene.v_a + sum(h.order * scene.omega * math.hypot(h.x, h.y) for h in vib.harmonics)
+
+
 def _check_base_table(scene) -> None:
     """A base motion given per step (core/base_table.py): a measured motion file that
     reads (and closes on itself where periodic), alone in moving the base, with a method
@@ -236,6 +253,11 @@ def _check_base_table(scene) -> None:
         check_harmonics(vib.harmonics)
     except BadBaseMotion as err:
         raise refused(err) from None
+    if vib.harmonics and (n := max(h.order for h in vib.harmonics)) * vib.f * scene.time.dt > 0.1:
+        raise SceneError("vibration.harmonics", f"order {n} runs at {n * vib.f:g} Hz, whose cycle "
+                                                f"time.dt = {scene.time.dt:g} s resolves in "
+                                                f"{1 / (n * vib.f * scene.time.dt):.3g} steps; at "
+                                                "least 10 are needed")
     if vib.motion is None:
         if vib.motion_periodic:
             raise SceneError("vibration.motion_periodic", "says how a measured motion repeats: "
