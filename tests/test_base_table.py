@@ -241,6 +241,22 @@ def test_the_command_refuses_a_bad_motion_and_writes_nothing(tmp_path, capsys):
     assert not out.exists()
 
 
+def test_a_motion_file_named_in_the_api_is_relative_to_the_current_directory(
+        tmp_path, monkeypatch):
+    from vibrofric.api import load_scene as api_load
+
+    (tmp_path / "base.csv").write_text(GOOD)
+    monkeypatch.chdir(tmp_path)
+    scene = api_load("longitudinal", vibration__motion="base.csv", vibration__k_v=0.0)
+    assert scene.vibration.motion == str(tmp_path / "base.csv")
+
+
+def test_the_example_scenes_load(load_scene):
+    harmonics = scene_module.load("examples/base_motion/harmonics.toml")
+    assert [h.order for h in harmonics.vibration.harmonics] == [2, 1]
+    assert harmonics.vibration.k_v == load_scene("longitudinal").vibration.k_v
+
+
 def test_the_examples_motion_file_is_the_papers_sine(load_scene):
     example = scene_module.load("examples/base_motion/measured.toml")
     paper = load_scene("longitudinal")
