@@ -31,6 +31,7 @@ of order h^3 (h the file's sampling interval). Harmonics are sampled exactly.
 """
 
 import csv
+import functools
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -108,9 +109,32 @@ def table_row(rows, first_step, period, i):
 
 def read_motion(path) -> MeasuredMotion:
     """A measured motion file: a header naming t, x_b, y_b and optionally z_b (any order),
-    then rows of numbers (lines starting with # are comments); at least 2 rows, every value finite, t starting at 0 and
-    strictly increasing. Raises BadBaseMotion naming vibration.motion."""
+    then rows of numbers (lines starting with # are comments); at least 2 rows, every
+    value finite, t starting at 0 and strictly increasing. Raises BadBaseMotion naming
+    vibration.motion. Read once for each content (the scene's checks, the sampling at
+    each step of an error estimate): kept by path, size and modification time."""
     path = Path(path)
+    try:
+        stat = path.stat()
+    except FileNotFoundError:
+        raise BadBaseMotion(f"{path}: no such file") from None
+    except OSError as err:
+        raise BadBaseMotion(f"{path} cannot be read: {err}") from None
+    return _parsed(str(path), stat.st_size, stat.st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=8)
+def _parsed(name: str, size: int, mtime_ns: int) -> MeasuredMotion:
+    """read_motion's parse of the file ``name`` (``size``, ``mtime_ns``: its cache key);
+    the arrays read-only, as the cache shares them."""
+    motion = _parse_motion(Path(name))
+    for values in (motion.t, motion.x, motion.y, motion.z):
+        values.flags.writeable = False
+    return motion
+
+
+def _parse_motion(path: Path) -> MeasuredMotion:
+    """The file's columns, checked (read_motion)."""
     try:
         with path.open(newline="", encoding="utf-8") as stream:
             lines = [(number, row) for number, row in enumerate(csv.reader(stream), 1)
@@ -247,3 +271,50 @@ def base_table(vibration, omega: float, dt: float, t_on: float, first_step: int,
         check_harmonics(vibration.harmonics)
         return sample_harmonics(vibration.harmonics, omega, dt, t_on, first_step, last_step)
     return NO_TABLE
+
+
+def table_moves_along_z(vibration) -> bool:
+    """Whether the motion given per step moves the base along Z: a harmonic with a z, or
+    a measured motion whose z_b is not all 0 (an unreadable file: False; the scene's
+    checks refuse it)."""
+    if any(h.z != 0.0 for h in vibration.harmonics):
+        return True
+    if vibration.motion is None:
+        return False
+    try:
+        return bool(np.any(read_motion(vibration.motion).z != 0.0))
+    except BadBaseMotion:
+        return False
+
+
+def moves_along_z(vibration) -> bool:
+    """Whether the base moves along Z: vibration.normal_amplitude, or a table that does."""
+    return vibration.normal_amplitude > 0.0 or table_moves_along_z(vibration)
+
+
+def table_speed_z(vibration, omega: float) -> float:
+    """A bound of the table's |dz_b/dt|, m/s: each harmonic's n w |z| summed, or a measured
+    motion's fastest chord in z_b between its samples."""
+    if vibration.motion is not None:
+        motion = read_motion(vibration.motion)
+        return float(np.max(np.abs(np.diff(motion.z)) / np.diff(motion.t)))
+    return sum(h.order * omega * abs(h.z) for h in vibration.harmonics)
+
+
+def table_velocity_z(vibration, omega: float, s: float) -> float:
+    """The table's dz_b/dt at the time s from t_on, m/s, between the steps it is sampled at
+    (harmonics exactly, a measured motion by its spline: the module docstring); 0 without
+    a table. The explicit FE integrator's start needs it half a step before t_on's step."""
+    if vibration.motion is not None:
+        from scipy.interpolate import CubicSpline
+
+        motion = read_motion(vibration.motion)
+        z = np.array(motion.z)
+        if vibration.motion_periodic:
+            z[-1] = z[0]
+            s = s % motion.span
+        spline = CubicSpline(motion.t, z, bc_type="periodic" if vibration.motion_periodic
+                             else "not-a-knot")
+        return float(spline(s, 1))
+    return sum(h.z * h.order * omega * math.cos(h.order * omega * s + math.radians(h.phase_z_deg))
+               for h in vibration.harmonics)

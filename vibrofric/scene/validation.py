@@ -6,7 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.base_table import WHOLE_STEPS, check_closed, check_harmonics, read_motion, whole_steps
+from ..core.base_table import (WHOLE_STEPS, check_closed, check_harmonics, moves_along_z,
+                               read_motion, table_moves_along_z, table_speed_z, whole_steps)
 from ..core.errors import BadBaseMotion, BadBody
 from ..friction_law import LawError
 from ..meshes import MESH_SUFFIXES, level_counts
@@ -124,7 +125,7 @@ def validate(scene: Scene) -> None:
         raise SceneError("contact.eta_y", f"must lie in [0, 1], got {scene.contact.eta_y}")
     if scene.contact.k_n is not None and scene.contact.k_n <= 0:
         raise SceneError("contact.k_n", f"must be > 0, got {scene.contact.k_n}")
-    if moves_along_z(scene) and scene.contact.k_n is None and not scene.body.is_block:
+    if moves_along_z(scene.vibration) and scene.contact.k_n is None and not scene.body.is_block:
         raise SceneError("contact.k_n", "needed for a base moving along Z under a body other "
                                         "than the block: its default is matched to the FE "
                                         "block's bounce (core/bounce.py)")
@@ -212,27 +213,6 @@ def validate(scene: Scene) -> None:
             _check_averaging_window(scene)
 
 
-def moves_along_z(scene) -> bool:
-    """Whether the base moves along Z: a normal_amplitude, or a table that does
-    (table_moves_along_z)."""
-    return scene.vibration.normal_amplitude > 0.0 or table_moves_along_z(scene)
-
-
-def table_moves_along_z(scene) -> bool:
-    """Whether a base motion given per step moves along Z: a harmonic with a z, or a
-    measured motion with a z_b column not all 0 (an unreadable file: False, refused by
-    _check_base_table)."""
-    vib = scene.vibration
-    if any(h.z != 0.0 for h in vib.harmonics):
-        return True
-    if vib.motion is None:
-        return False
-    try:
-        return bool(np.any(read_motion(vib.motion).z != 0.0))
-    except BadBaseMotion:
-        return False
-
-
 def table_speed(scene) -> float:
     """The base's largest in-plane speed, m/s, where its motion is given per step: the
     sine's v_a plus each harmonic's n w sqrt(x^2 + y^2) (a bound), or a measured motion's
@@ -292,14 +272,11 @@ def check_fe_scene(scene) -> None:
     """Refuse, before any work, a scene the FE model cannot run: a base moving along Z
     faster than its step resolves (normal_step_bound; on the block, whose penalty is
     known before its mesh is: another body's run stops at the first step past
-    the normal-force limit, fem/outputs/trouble.py); a base motion given per step
-    (core/base_table.py) other than in the plane, stepped by the explicit integrator."""
+    the normal-force limit, fem/outputs/trouble.py), the speed along Z of a base motion
+    given per step bounded alike; such a motion (core/base_table.py) other than stepped
+    by the explicit integrator."""
     if scene.vibration.sampled:
         key = "vibration.motion" if scene.vibration.motion is not None else "vibration.harmonics"
-        if table_moves_along_z(scene):
-            raise SceneError(key, "moves the base along Z: the FE model takes a base motion "
-                                  "given per step in the plane only (the lumped model "
-                                  "takes its Z)")
         if scene.fem.integrator != "explicit":
             raise SceneError("fem.integrator", f"\"{scene.fem.integrator}\": only the explicit "
                                                f"integrator reads {key}; use \"explicit\"")
@@ -318,6 +295,17 @@ def check_fe_scene(scene) -> None:
                              f"by up to A_n w dt = {approach:.3g} m a step, more than the penalty "
                              f"takes in one ({NORMAL_LIMIT:g} F_N / k_pen = {taken:.3g} m): use "
                              f"vibration.normal_amplitude <= {bound:.3g} m or a smaller time.dt")
+    if table_moves_along_z(scene.vibration) and (scene.body.is_block
+                                                 or scene.fem.penalty is not None):
+        speed = scene.vibration.normal_amplitude * scene.omega + table_speed_z(scene.vibration,
+                                                                               scene.omega)
+        taken = NORMAL_LIMIT * scene.contact.F_N / scene.block_penalty
+        if speed * scene.time.dt > taken:
+            key = "vibration.motion" if scene.vibration.motion is not None else "vibration.harmonics"
+            raise SceneError(key, f"moves the base into the body at up to {speed:.3g} m/s, by "
+                                  f"{speed * scene.time.dt:.3g} m a step, more than the penalty "
+                                  f"takes in one ({NORMAL_LIMIT:g} F_N / k_pen = {taken:.3g} m): "
+                                  "a smaller motion along Z or a smaller time.dt")
 
 
 def normal_step_bound(scene) -> float:
