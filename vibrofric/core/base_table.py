@@ -18,16 +18,24 @@ row k is step first_step + k, at s_k = (first_step + k) dt - t_on. Each row hold
 x_b, y_b, z_b and their velocities (TABLE_COLUMNS). ``period`` > 0: the rows repeat
 every ``period`` steps (a periodic motion whose period is a whole number of steps);
 0: the last row holds once the table ends (a motion that ends: its last displacement,
-velocity 0).
+velocity 0). Harmonics whose base cycle is not a whole number of steps, and a periodic
+measured motion whose period is not, are sampled at every step of the run instead
+(6 floats a step).
+
+The readers: analytic/normal.py normal_loop (and the periodic solver's cycle map
+over it), fem/integrators/explicit.py explicit_steps; each reads row table_row(i) of
+step i and adds it to the sine's base position.
 
 A measured motion is interpolated LINEARLY in displacement (exact at the file's
 samples, never overshooting them: a file sampled at the run's steps is reproduced to
-the bit of its numbers). Its velocity, which the contact's normal dashpot sees
-(analytic/normal.py), is the derivative of a cubic spline through the same samples
-(scipy's CubicSpline; periodic end conditions for a periodic motion, not-a-knot
-otherwise): the linear interpolant's derivative jumps at every sample, and a
-dashpot fed by it would be kicked there; the spline's is continuous and its error
-of order h^3 (h the file's sampling interval). Harmonics are sampled exactly.
+rounding). Before t_on the base rests at 0; at t_on it is at the file's first row
+(a file that does not start at 0 moves the base there in one step). Its velocity,
+which the contact's normal dashpot sees (analytic/normal.py, fem/model/contact.py),
+is the derivative of a cubic spline through the same samples (scipy's CubicSpline;
+periodic end conditions for a periodic motion, not-a-knot otherwise): the linear
+interpolant's derivative jumps at every sample, and a dashpot fed by it would be
+kicked there; the spline's is continuous and its error of order h^3 (h the file's
+sampling interval). Harmonics are sampled exactly.
 """
 
 import csv
@@ -198,7 +206,8 @@ def whole_steps(span: float, dt: float):
 
 
 def check_harmonics(harmonics) -> None:
-    """Each harmonic's order a positive integer, its amplitudes finite."""
+    """Each harmonic's order a positive integer (its amplitudes and phases are finite
+    numbers by their type: scene/keys.py)."""
     for h in harmonics:
         if isinstance(h.order, bool) or not isinstance(h.order, int) or h.order < 1:
             raise BadBaseMotion(f"order = {h.order!r}: a harmonic's order is a positive integer "
@@ -252,11 +261,6 @@ def sample_harmonics(harmonics, omega: float, dt: float, t_on: float, first_step
             rows[:, axis] += amplitude * np.sin(phase)
             rows[:, axis + 3] += amplitude * w * np.cos(phase)
     return BaseTable(rows, first_step, period or 0)
-
-
-def largest_normal_speed(table: BaseTable) -> float:
-    """max |dz_b/dt| of the table's rows, m/s (0 without a table)."""
-    return float(np.max(np.abs(table.rows[:, 5]))) if table.rows.shape[0] else 0.0
 
 
 def base_table(vibration, omega: float, dt: float, t_on: float, first_step: int,

@@ -1,6 +1,7 @@
 """Scene files: a TOML file read (with ``section.key=value`` overrides) into a Scene, and a
-Scene written back as TOML. A law file, a body's mesh file and a measured base motion are named relative to the
-scene file that names them, or to the current directory on the command line."""
+Scene written back as TOML. A law file, a body's mesh file and a measured base motion are
+named relative to the scene file that names them, or to the current directory on the
+command line."""
 
 import tomllib
 from pathlib import Path
