@@ -112,6 +112,8 @@ def load_scene(source: str | Path | Mapping | "Scene" = "longitudinal", **overri
             path = Path(law).expanduser()
             law = str(path if path.is_absolute() else path.resolve())
         scene = scene.with_law(law)
+    if isinstance(values.get("vibration.motion"), str):   # relative to the current directory
+        values["vibration.motion"] = str(Path(values["vibration.motion"]).expanduser().resolve())
     return scene.with_values(values) if values else scene
 
 

@@ -115,7 +115,8 @@ def estimate(scene, fe: bool, full_series: bool = False, series: bool = True) ->
     only its scene and summary, POINT_BYTES)."""
     plan = RecordPlan.for_scene(scene, full_resolution_steps(scene))
     # the FE model's F_n; a base moving along Z adds z, z_b, N (analytic/normal.py)
-    columns = len(COLUMNS) + (1 if fe else 0) + (3 if scene.vibration.normal_amplitude > 0 else 0)
+    normal = scene.vibration.normal_amplitude > 0 or scene.vibration.sampled   # z, z_b, N
+    columns = len(COLUMNS) + (1 if fe else 0) + (3 if normal else 0)
     series_files = 2 if fe else 1  # an FE run writes the analytic series beside its own
     memory = 3 * plan.rows * columns * 8
     rows_written = plan.rows if full_series else written_rows(scene)

@@ -60,6 +60,7 @@ import math
 import numpy as np
 
 from ..core.base_motion import base_displacement, normal_displacement, vibration_axis
+from ..core.base_table import base_table, table_row
 from ..core.base_motion import first_step_on as base_first_step_on
 from ..core.chunks import run_in_chunks
 from ..core.law_limits import divergence_force
@@ -87,11 +88,15 @@ def normal_at_rest(F_N: float) -> np.ndarray:
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)
 def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_theta, eta_y,
-                F_N, k_n, c_n, amplitude_n, phase_n, gain_re, gain_im, on_step, state, params, dt, first, last, stride,
-                full_from, f_max, carried, out):
+                F_N, k_n, c_n, amplitude_n, phase_n, gain_re, gain_im, on_step, table, table_from,
+                table_period, state, params, dt, first, last, stride, full_from, f_max, carried,
+                out):
     """coupled.coupled_loop with the body's Z motion on the unilateral contact (the
     module docstring's equations); ``out``'s rows add z, z_b, N (NORMAL_COLUMNS).
-    The 1D stepper is this loop with sin_theta = eta_y = 0."""
+    The 1D stepper is this loop with sin_theta = eta_y = 0. ``table`` (rows of
+    core.base_table.TABLE_COLUMNS from step ``table_from``, repeating every
+    ``table_period`` steps, 0: the last row held; no rows: none) adds the base's
+    motion given per step to the sine's."""
     x, y, vx, vy = carried[X], carried[Y], carried[VX], carried[VY]
     f_x, f_y, xb, yb = carried[FX], carried[FY], carried[XB], carried[YB]
     z, vz, n = carried[Z], carried[VZ], carried[N]
@@ -111,9 +116,15 @@ def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_thet
         zb, vzb = 0.0, 0.0
         if t >= t_on:   # A_n sin(w (t - t_on) + phi) by the in-plane motion's rotated phase
             zb, vzb = normal_displacement(amplitude_n, omega, sin_n, cos_n, sin_phase, cos_phase)
-            if i == on_step:    # the first step on: the body on its forced response
-                z = gain_re * zb + gain_im * vzb / omega
-                vz = gain_re * vzb - gain_im * omega * zb
+        k = table_row(table, table_from, table_period, i)
+        if k >= 0:      # the motion given per step, added (core/base_table.py)
+            xb_new += table[k, 0]
+            yb_new += table[k, 1]
+            zb += table[k, 2]
+            vzb += table[k, 5]
+        if i == on_step:    # the first step on: the body on its forced response
+            z = gain_re * zb + gain_im * vzb / omega
+            vz = gain_re * vzb - gain_im * omega * zb
         spring = F_N + k_n * (zb - z)               # k_n p, exactly F_N at rest
         n = 0.0
         if spring > 0.0:
@@ -144,8 +155,19 @@ def normal_loop(mass, k_d, v_d, prescribed, u0, omega, t_on, cos_theta, sin_thet
 
 
 def moves_normally(scene) -> bool:
-    """Whether the scene's base moves along Z (vibration.normal_amplitude > 0)."""
-    return scene.vibration.normal_amplitude > 0.0
+    """Whether the scene steps through normal_loop: its base moves along Z
+    (vibration.normal_amplitude > 0), or its motion is given per step (a measured motion
+    or harmonics, core/base_table.py: this loop alone reads the table; with z_b = 0 it
+    answers coupled_loop's answer bit for bit)."""
+    return scene.vibration.normal_amplitude > 0.0 or scene.vibration.sampled
+
+
+def motion_table(scene, dt: float, t_on: float, last_step: int) -> tuple:
+    """normal_loop's (table, table_from, table_period) for the scene at the step ``dt``,
+    the motion starting at ``t_on`` (0 in a periodic cycle), to ``last_step``."""
+    table = base_table(scene.vibration, scene.omega, dt, t_on, base_first_step_on(t_on, dt),
+                       last_step)
+    return table.rows, table.first_step, table.period
 
 
 def start_gain(scene) -> tuple:
@@ -177,13 +199,14 @@ def _run_loop(scene, planar: bool, plan: RecordPlan, out: np.ndarray) -> int:
         sin_theta, eta_y = 0.0, 0.0
     law, vib = scene.friction, scene.vibration
     state, carried = law.law.initial_state(1)[0], normal_at_rest(scene.contact.F_N)
+    table = motion_table(scene, scene.time.dt, vib.t_on, scene.steps)
 
     def args(first, last):
         return (scene.body.mass, scene.drive.k_d, scene.drive.v_d, scene.drive.prescribed,
                 scene.u0, scene.omega, vib.t_on, cos_theta, sin_theta, eta_y,
                 scene.contact.F_N, scene.normal_stiffness, contact_damping(scene),
                 vib.normal_amplitude, math.radians(vib.normal_phase_deg or 0.0),
-                *start_gain(scene), first_step_on(scene), state,
+                *start_gain(scene), first_step_on(scene), *table, state,
                 law.params, scene.time.dt, first, last, plan.stride, plan.full_from,
                 divergence_force(scene), carried, out)
 

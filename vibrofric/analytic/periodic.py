@@ -251,7 +251,8 @@ class NormalCycleMap(CycleMap):
         return (s.body.mass, s.drive.k_d, s.drive.v_d, s.drive.prescribed, s.u0, s.omega, 0.0,
                 cos_theta, sin_theta, eta_y, s.contact.F_N, s.normal_stiffness,
                 normal.contact_damping(s), vib.normal_amplitude,
-                math.radians(vib.normal_phase_deg or 0.0), *normal.start_gain(s), self.NO_START)
+                math.radians(vib.normal_phase_deg or 0.0), *normal.start_gain(s), self.NO_START,
+                *normal.motion_table(s, self.dt, 0.0, self.steps))
 
     def _rest(self) -> np.ndarray:
         return normal.normal_at_rest(self.scene.contact.F_N)

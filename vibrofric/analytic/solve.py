@@ -61,10 +61,12 @@ def solve_with_orbit(scene, stepper: str = "coupled", start=None, estimate: bool
 
     The summary's normal-force keys (normal.normal_force_keys) are over the steady
     cycles: the orbit's where it is the answer. A base moving along Z (normal.py) is
-    shot for with the body's z, dz/dt and N in the state (periodic.NormalCycleMap).
+    shot for with the body's z, dz/dt and N in the state (periodic.NormalCycleMap), and
+    so is a base whose motion is given per step (core/base_table.py); a measured motion
+    that ends (vibration.motion_periodic false) has no orbit: it is stepped.
     """
     orbit = None
-    if scene.time.method != "transient" and scene.vibrated:
+    if scene.time.method != "transient" and scene.vibrated and scene.vibration.repeats:
         load_cycle(scene, stepper)
         orbit = find_orbit(scene, stepper, start)
         if orbit.converged and orbit.stable:

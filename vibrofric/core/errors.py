@@ -66,3 +66,14 @@ class BadBody(Refusal):
     def __init__(self, message: str, key: str = "body.mesh"):
         super().__init__(message)
         self.key = key
+
+
+class BadBaseMotion(Refusal):
+    """A base motion given per step (core/base_table.py) that cannot be sampled: a measured
+    motion file unreadable, short, not finite or not increasing in time, a harmonic's
+    order not a positive integer, a period not a whole number of steps. ``key`` names the
+    scene key to change (vibration.motion, vibration.harmonics, time.dt)."""
+
+    def __init__(self, message: str, key: str = "vibration.motion"):
+        super().__init__(message)
+        self.key = key

@@ -137,7 +137,9 @@ def periodic_block(orbit, scene) -> dict:
         return {"method": "transient", "converged": False, "newton_iterations": 0,
                 "cycles_integrated": 0, "residual": None, "floquet_max_modulus": None,
                 "dt": scene.time.dt, "steps_per_cycle": None,
-                "reason": "no vibration: the steady state is steady sliding"}
+                "reason": ("a measured base motion that ends (vibration.motion_periodic "
+                           "false) has no periodic orbit" if scene.vibrated
+                           else "no vibration: the steady state is steady sliding")}
     periodic = orbit.converged and orbit.stable
     return {"method": "periodic" if periodic else "transient",
             "converged": orbit.converged,

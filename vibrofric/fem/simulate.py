@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.base_table import moves_along_z
 from ..core.series import (RecordPlan, TimeSeries, averaging_steps, check_stepped_window,
                            full_resolution_steps)
 from ..core.shooting import periodic_block
@@ -171,7 +172,7 @@ def _run(scene, model, vtk_dir, progress, start, drive_force, start_time) -> FER
     series = TimeSeries.from_table(run.table, scene_extra_columns(scene))
     swing = judge(series.extra["F_n"][-averaging_steps(scene):], scene.time.dt,
                   scene.vibration.f, scene.contact.F_N, model.beta,
-                  scene.vibration.normal_amplitude > 0.0)
+                  moves_along_z(scene.vibration))
     stats = {**run.stats, "F_n_node_swing": node_swing(run.node_normals)}
     clock = Clock(setup_time, run.stats["loop_time_s"], time.perf_counter() - start_time)
     info = {**run_info(scene, model, integrator, stats, swing, writer, clock),
@@ -343,7 +344,7 @@ def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, sta
              "F_n_node_swing": node_swing(node_normals)}
     swing = judge(series.extra["F_n"][-averaging_steps(shot_scene):], shot_scene.time.dt,
                   scene.vibration.f, scene.contact.F_N, model.beta,
-                  scene.vibration.normal_amplitude > 0.0)
+                  moves_along_z(scene.vibration))
     clock = Clock(setup_time, orbit.solver_time_s, time.perf_counter() - start_time)
     info = {**run_info(shot_scene, model, integrator, stats, swing, writer, clock),
             **patch(model.contact_area, last.normal),

@@ -2,12 +2,15 @@
 key's type, the contact's law parameters against the law's declaration, then the
 whole scene validated."""
 
+import dataclasses
 import difflib
 import typing
 
+from ..core.base_table import WHOLE_STEPS, read_motion
+from ..core.errors import BadBaseMotion
 from ..friction_law import ContactLaw, LawError, ParameterError, load_law
 from ..friction_law.contract import BUILT_IN
-from .errors import SceneError, law_refused
+from .errors import SceneError, law_refused, refused
 from .keys import check_type
 from .schema import CONTACT_KEYS, SECTIONS, Contact, Scene, law_key, split_key
 from .validation import validate
@@ -29,10 +32,30 @@ def from_dict(raw: dict, name: str = "scene") -> Scene:
         for key, value in values.items():
             section_, key_ = split_key(f"{section}.{key}")
             checked[key_] = check_type(f"{section}.{key}", value, hints[key_])
+        if section == "vibration" and checked.get("motion") is not None:
+            checked.setdefault("k_v", 0.0)      # a measured motion replaces the paper's sine
         sections[section] = SECTIONS[section](**checked)
     scene = Scene(name=name, **sections)
+    if scene.vibration.motion is not None and scene.vibration.motion_periodic:
+        scene = _with_motion_frequency(scene, "f" in raw.get("vibration", {}))
     validate(scene)
     return scene
+
+
+def _with_motion_frequency(scene: Scene, f_given: bool) -> Scene:
+    """A periodic measured motion's frequency, 1 / its file's span, as vibration.f (the
+    periodic solver's cycle, the averaging window's cycles); a vibration.f the scene
+    gives must be that one (to core.base_table.WHOLE_STEPS relative)."""
+    try:
+        span = read_motion(scene.vibration.motion).span
+    except BadBaseMotion as err:
+        raise refused(err) from None
+    f = 1.0 / span
+    if f_given and abs(scene.vibration.f - f) > WHOLE_STEPS * f:
+        raise SceneError("vibration.f", f"{scene.vibration.f:g} Hz, but the periodic measured "
+                                        f"motion's period {span:g} s makes it {f:.10g} Hz: "
+                                        "remove vibration.f (the motion sets it)")
+    return dataclasses.replace(scene, vibration=dataclasses.replace(scene.vibration, f=f))
 
 
 def _contact(values: dict) -> Contact:

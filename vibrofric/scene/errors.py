@@ -34,6 +34,7 @@ REFUSAL_KEYS = {
     errors.ReductionFailed: "fem.cutoff",
     errors.WindowDoesNotFit: "time.average_cycles",
     errors.BadBody: "body.mesh",
+    errors.BadBaseMotion: "vibration.motion",
 }
 
 

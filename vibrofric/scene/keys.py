@@ -1,6 +1,7 @@
 """Setting one scene key: ``section.key=value`` parsed (``--set``), the value checked
 against the key's type, and set in a scene's nested ``{section: {key: value}}``."""
 
+import dataclasses
 import math
 import tomllib
 import typing
@@ -55,11 +56,37 @@ def check_type(key: str, value, annotation):
         if not isinstance(value, str):
             raise SceneError(key, f"expected a string, got {value!r}")
         return value
+    if typing.get_origin(base) is tuple:     # a list of tables, each a dataclass's keys
+        return _tables(key, value, typing.get_args(base)[0])
     if base is tuple:
         if not isinstance(value, (list, tuple)) or len(value) != 3:
             raise SceneError(key, f"expected a list of 3 numbers, got {value!r}")
         return tuple(check_type(key, v, float) for v in value)
     raise TypeError(f"no type check for {annotation}")
+
+
+def _tables(key: str, value, cls) -> tuple:
+    """A list of tables (vibration.harmonics) as a tuple of ``cls``, each key type-checked."""
+    if not isinstance(value, (list, tuple)):
+        raise SceneError(key, f"expected a list of tables, got {value!r}")
+    hints = typing.get_type_hints(cls)
+    items = []
+    for n, table in enumerate(value):
+        if isinstance(table, cls):
+            table = dataclasses.asdict(table)
+        if not isinstance(table, dict):
+            raise SceneError(key, f"entry {n + 1}: expected a table of keys, got {table!r}")
+        unknown = sorted(set(table) - set(hints))
+        if unknown:
+            raise SceneError(key, f"entry {n + 1}: unknown key {unknown[0]!r}; known: "
+                                  f"{', '.join(hints)}")
+        missing = [f.name for f in dataclasses.fields(cls)
+                   if f.default is dataclasses.MISSING and f.name not in table]
+        if missing:
+            raise SceneError(key, f"entry {n + 1}: needs {', '.join(missing)}")
+        items.append(cls(**{name: check_type(f"{key}[{n + 1}].{name}", v, hints[name])
+                            for name, v in table.items()}))
+    return tuple(items)
 
 
 def parse_value(text: str):
@@ -82,7 +109,7 @@ def parse_assignment(text: str):
     >>> parse_assignment("vibration.kv=20")
     Traceback (most recent call last):
     ...
-    vibrofric.scene.SceneError: vibration.kv: unknown key in [vibration]; known: f, k_v, theta_deg, t_on, normal_amplitude, normal_phase_deg
+    vibrofric.scene.SceneError: vibration.kv: unknown key in [vibration]; known: f, k_v, theta_deg, t_on, normal_amplitude, normal_phase_deg, harmonics, motion, motion_periodic
     """
     key, sep, value = text.partition("=")
     if not sep:

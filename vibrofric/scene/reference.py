@@ -26,6 +26,7 @@ UNITS = {
     "drive.k_d": "N/m", "drive.v_d": "m/s",
     "vibration.f": "Hz", "vibration.k_v": "", "vibration.theta_deg": "deg", "vibration.t_on": "s",
     "vibration.normal_amplitude": "m", "vibration.normal_phase_deg": "deg",
+    "vibration.harmonics": "m, deg",
     "time.T": "s", "time.dt": "s", "time.average_cycles": "cycles", "time.series_dt": "s",
     "time.steady_tolerance": "", "time.steady_cycles": "cycles", "time.settle_tolerance": "",
     "fem.penalty": "N/m", "fem.contact_stiffness": "Pa/m", "fem.output_every": "steps", "fem.damping": "s",
@@ -75,6 +76,8 @@ def type_name(annotation) -> str:
         if type(None) not in choices:
             return " or ".join(t.__name__ for t in choices)
         return f"{choices[0].__name__} (optional)"
+    if typing.get_origin(annotation) is tuple:
+        return "list of tables"
     return {tuple: "3 numbers"}.get(annotation, getattr(annotation, "__name__", str(annotation)))
 
 

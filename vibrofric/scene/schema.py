@@ -14,6 +14,7 @@ import typing
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
+from ..core.base_table import Harmonic
 from ..core.bounce import bounce_stiffness, default_penalty
 from ..friction_law import ContactLaw, load_law
 from ..friction_law.contract import is_law_file
@@ -149,6 +150,32 @@ class Vibration:
     normal_phase_deg: typing.Optional[float] = None  # the normal motion's phase against the
                                            # in-plane motion (90: elliptical); none: 0, and only
                                            # with a normal_amplitude
+    harmonics: typing.Tuple[Harmonic, ...] = ()  # harmonics added to the base's motion, each
+                                           # { order = n, x = m, y = m, z = m, phase_x_deg,
+                                           # phase_y_deg, phase_z_deg } at n f
+                                           # (core/base_table.py); none: the sine alone
+    motion: typing.Optional[str] = None    # a measured base motion instead of the sine: a CSV
+                                           # file (relative to the scene file) with a header
+                                           # t, x_b, y_b[, z_b] (s from t_on, m); k_v is 0
+                                           # with it, and a k_v, normal_amplitude or harmonics
+                                           # beside it are refused; FE: the explicit
+                                           # integrator, stepped (core/base_table.py)
+    motion_periodic: bool = False          # the motion file spans one period, its last row the
+                                           # next period's first, repeated (its frequency
+                                           # replaces vibration.f); false: after the file ends
+                                           # the base holds its last position (stepped only)
+
+    @property
+    def sampled(self) -> bool:
+        """Whether the base's motion is given per step (a measured motion or harmonics,
+        core/base_table.py), read from a table by the stepper."""
+        return self.motion is not None or bool(self.harmonics)
+
+    @property
+    def repeats(self) -> bool:
+        """Whether the base's motion is periodic (the periodic solver's premise): all but
+        a measured motion that ends (motion_periodic false)."""
+        return self.motion is None or self.motion_periodic
 
 
 @dataclass(frozen=True)
@@ -254,8 +281,10 @@ class Scene:
 
     @property
     def vibrated(self) -> bool:
-        """Whether the base moves: in the plane (k_v > 0) or along Z (normal_amplitude > 0)."""
-        return self.vibration.k_v > 0.0 or self.vibration.normal_amplitude > 0.0
+        """Whether the base moves: in the plane (k_v > 0), along Z (normal_amplitude > 0), or
+        as a measured motion or harmonics give it."""
+        return (self.vibration.k_v > 0.0 or self.vibration.normal_amplitude > 0.0
+                or self.vibration.sampled)
 
     @property
     def normal_stiffness(self) -> float:

@@ -1,6 +1,7 @@
 """Scene files: a TOML file read (with ``section.key=value`` overrides) into a Scene, and a
-Scene written back as TOML. A law file and a body's mesh file are named relative to the
-scene file that names them, or to the current directory on the command line."""
+Scene written back as TOML. A law file, a body's mesh file and a measured base motion are
+named relative to the scene file that names them, or to the current directory on the
+command line."""
 
 import tomllib
 from pathlib import Path
@@ -23,7 +24,7 @@ def _law_path(value, base: Path):
 
 
 def _mesh_path(value, base: Path):
-    """body.mesh named relative to ``base`` as an absolute path."""
+    """body.mesh (or vibration.motion) named relative to ``base`` as an absolute path."""
     if isinstance(value, str):
         path = Path(value).expanduser()
         return str(path if path.is_absolute() else (base / path).resolve())
@@ -61,12 +62,14 @@ def load(path, overrides=()) -> Scene:
         raw["contact"]["law"] = _law_path(raw["contact"]["law"], path.resolve().parent)
     if "mesh" in raw.get("body", {}):   # and so is the body's mesh file
         raw["body"]["mesh"] = _mesh_path(raw["body"]["mesh"], path.resolve().parent)
+    if "motion" in raw.get("vibration", {}):   # and a measured base motion
+        raw["vibration"]["motion"] = _mesh_path(raw["vibration"]["motion"], path.resolve().parent)
     for text in overrides:
         key, value = parse_assignment(text)
         # ... and on the command line, relative to the current directory
         if key == "contact.law":
             value = _law_path(value, Path.cwd())
-        elif key == "body.mesh":
+        elif key in ("body.mesh", "vibration.motion"):
             value = _mesh_path(value, Path.cwd())
         assign(raw, key, value)
     return from_dict(raw, path.stem)

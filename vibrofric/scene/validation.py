@@ -4,7 +4,11 @@ invalid or unrunnable one raises SceneError naming its key."""
 import math
 from pathlib import Path
 
-from ..core.errors import BadBody
+import numpy as np
+
+from ..core.base_table import (WHOLE_STEPS, check_closed, check_harmonics, moves_along_z,
+                               read_motion, table_moves_along_z, table_speed_z, whole_steps)
+from ..core.errors import BadBaseMotion, BadBody
 from ..friction_law import LawError
 from ..meshes import MESH_SUFFIXES, level_counts
 from ..meshes import checks as mesh_checks
@@ -12,7 +16,7 @@ from ..meshes import refinement, shapes
 from ..sense import nonsense
 from ..core.law_limits import NORMAL_LIMIT
 from ..core.series import shortest_stepped_T
-from .errors import SceneError, law_refused
+from .errors import SceneError, law_refused, refused
 from .schema import CHOICES, SHAPE_KEYS, Body, Scene, to_dict
 
 
@@ -121,8 +125,7 @@ def validate(scene: Scene) -> None:
         raise SceneError("contact.eta_y", f"must lie in [0, 1], got {scene.contact.eta_y}")
     if scene.contact.k_n is not None and scene.contact.k_n <= 0:
         raise SceneError("contact.k_n", f"must be > 0, got {scene.contact.k_n}")
-    if (scene.vibration.normal_amplitude > 0.0 and scene.contact.k_n is None
-            and not scene.body.is_block):
+    if moves_along_z(scene.vibration) and scene.contact.k_n is None and not scene.body.is_block:
         raise SceneError("contact.k_n", "needed for a base moving along Z under a body other "
                                         "than the block: its default is matched to the FE "
                                         "block's bounce (core/bounce.py)")
@@ -130,6 +133,7 @@ def validate(scene: Scene) -> None:
         raise SceneError("vibration.normal_phase_deg",
                          f"{scene.vibration.normal_phase_deg:g} deg is the phase of a normal motion "
                          "the scene does not have: set vibration.normal_amplitude > 0")
+    _check_base_table(scene)
     if scene.fem.penalty is not None and scene.fem.penalty <= 0:
         raise SceneError("fem.penalty", f"must be > 0, got {scene.fem.penalty}")
     if scene.fem.contact_stiffness is not None and scene.fem.contact_stiffness <= 0:
@@ -190,6 +194,12 @@ def validate(scene: Scene) -> None:
                          f"{scene.v_a:.3g} m/s, beyond {BASE_SPEED_BOUND:g} of the speed of "
                          f"sound in the body sqrt(E/rho) = {body_sound_speed:.4g} m/s: no "
                          "solid carries that motion elastically")
+    speed = table_plane_speed(scene) if scene.vibration.sampled else 0.0
+    if speed > BASE_SPEED_BOUND * body_sound_speed:
+        raise SceneError(table_key(scene),
+                         f"moves the base at up to {speed:.3g} m/s in the plane, beyond "
+                         f"{BASE_SPEED_BOUND:g} of the speed of sound in the body sqrt(E/rho) = "
+                         f"{body_sound_speed:.4g} m/s: no solid carries that motion elastically")
     if scene.vibrated:
         vib, time = scene.vibration, scene.time
         steps_per_cycle = 1.0 / (vib.f * time.dt)
@@ -197,16 +207,89 @@ def validate(scene: Scene) -> None:
             raise SceneError("time.dt", f"{time.dt} s resolves a vibration cycle of 1/f = "
                                         f"{1 / vib.f:.3g} s in {steps_per_cycle:.3g} steps; "
                                         "at least 10 are needed")
-        # periodic and auto answer by the orbit, if they can (a base moving along Z too)
-        if time.method == "transient":
+        # periodic and auto answer by the orbit, if they can (a base moving along Z too);
+        # a measured motion that ends has no orbit: auto steps it
+        if time.method == "transient" or not vib.repeats:
             _check_averaging_window(scene)
+
+
+def table_key(scene) -> str:
+    """The key that gives the base's motion per step: vibration.motion or .harmonics."""
+    return "vibration.motion" if scene.vibration.motion is not None else "vibration.harmonics"
+
+
+def table_plane_speed(scene) -> float:
+    """The base's largest in-plane speed, m/s, where its motion is given per step: the
+    sine's v_a plus each harmonic's n w sqrt(x^2 + y^2) (a bound), or a measured motion's
+    fastest chord between its samples (its linear interpolant's)."""
+    vib = scene.vibration
+    if vib.motion is not None:
+        motion = read_motion(vib.motion)
+        return float(np.max(np.hypot(np.diff(motion.x), np.diff(motion.y)) / np.diff(motion.t)))
+    return scene.v_a + sum(h.order * scene.omega * math.hypot(h.x, h.y) for h in vib.harmonics)
+
+
+def _check_base_table(scene) -> None:
+    """A base motion given per step (core/base_table.py): a measured motion file that
+    reads (and closes on itself where periodic), alone in moving the base, with a method
+    that can run it; harmonics of positive integer orders."""
+    vib = scene.vibration
+    try:
+        check_harmonics(vib.harmonics)
+    except BadBaseMotion as err:
+        raise refused(err) from None
+    n = max((h.order for h in vib.harmonics), default=0)
+    if n and 1.0 / (n * vib.f * scene.time.dt) < 10:   # as the base cycle's (validate)
+        raise SceneError("vibration.harmonics", f"order {n} runs at {n * vib.f:g} Hz, whose cycle "
+                                                f"time.dt = {scene.time.dt:g} s resolves in "
+                                                f"{1 / (n * vib.f * scene.time.dt):.3g} steps; at "
+                                                "least 10 are needed")
+    if vib.motion is None:
+        if vib.motion_periodic:
+            raise SceneError("vibration.motion_periodic", "says how a measured motion repeats: "
+                                                          "set vibration.motion")
+        return
+    for key, given in (("vibration.k_v", vib.k_v > 0.0),
+                       ("vibration.normal_amplitude", vib.normal_amplitude > 0.0),
+                       ("vibration.harmonics", bool(vib.harmonics))):
+        if given:
+            raise SceneError(key, f"vibration.motion {vib.motion!r} moves the base alone: "
+                                  f"remove {key} (or vibration.motion)")
+    try:
+        motion = read_motion(vib.motion)
+        if vib.motion_periodic:
+            check_closed(motion, vib.motion)
+    except BadBaseMotion as err:
+        raise refused(err) from None
+    if not vib.motion_periodic and scene.time.method == "periodic":
+        raise SceneError("time.method", "\"periodic\" needs a motion that repeats: the measured "
+                                        "motion holds its last position after it ends "
+                                        "(vibration.motion_periodic false); use \"transient\" or "
+                                        "\"auto\"")
+    if (vib.motion_periodic and scene.time.method == "periodic"
+            and whole_steps(motion.span, scene.time.dt) is None):
+        raise SceneError("time.dt", f"{scene.time.dt:g} s does not divide the measured motion's "
+                                    f"period {motion.span:g} s into whole steps (to "
+                                    f"{WHOLE_STEPS:g} relative), as time.method \"periodic\" "
+                                    "needs")
 
 
 def check_fe_scene(scene) -> None:
     """Refuse, before any work, a scene the FE model cannot run: a base moving along Z
     faster than its step resolves (normal_step_bound; on the block, whose penalty is
     known before its mesh is: another body's run stops at the first step past
-    the normal-force limit, fem/outputs/trouble.py)."""
+    the normal-force limit, fem/outputs/trouble.py), the speed along Z of a base motion
+    given per step bounded alike; such a motion (core/base_table.py) other than stepped
+    by the explicit integrator."""
+    if scene.vibration.sampled:
+        key = table_key(scene)
+        if scene.fem.integrator != "explicit":
+            raise SceneError("fem.integrator", f"\"{scene.fem.integrator}\": only the explicit "
+                                               f"integrator reads {key}; use \"explicit\"")
+        if scene.time.method != "transient":
+            raise SceneError("time.method", f"\"{scene.time.method}\": the FE model steps {key} "
+                                            "through time.T (its periodic solver does not read "
+                                            "it); use \"transient\"")
     if scene.vibration.normal_amplitude > 0.0 and (scene.body.is_block
                                                    or scene.fem.penalty is not None):
         bound = normal_step_bound(scene)
@@ -218,6 +301,17 @@ def check_fe_scene(scene) -> None:
                              f"by up to A_n w dt = {approach:.3g} m a step, more than the penalty "
                              f"takes in one ({NORMAL_LIMIT:g} F_N / k_pen = {taken:.3g} m): use "
                              f"vibration.normal_amplitude <= {bound:.3g} m or a smaller time.dt")
+    if table_moves_along_z(scene.vibration) and (scene.body.is_block
+                                                 or scene.fem.penalty is not None):
+        speed = scene.vibration.normal_amplitude * scene.omega + table_speed_z(scene.vibration,
+                                                                               scene.omega)
+        taken = NORMAL_LIMIT * scene.contact.F_N / scene.block_penalty
+        if speed * scene.time.dt > taken:
+            raise SceneError(table_key(scene),
+                             f"moves the base into the body at up to {speed:.3g} m/s, by "
+                             f"{speed * scene.time.dt:.3g} m a step, more than the penalty takes "
+                             f"in one ({NORMAL_LIMIT:g} F_N / k_pen = {taken:.3g} m): a smaller "
+                             "motion along Z or a smaller time.dt")
 
 
 def normal_step_bound(scene) -> float:

@@ -31,6 +31,10 @@ shadow form (outputs/energy.py explicit_energy_step).
 A base moving along Z (vibration.normal_amplitude > 0): each contact node's gap is
 measured against z_b(t_{n+1}) and its dashpot against the base's speed
 (model/contact.py), and the body starts on its forced response (normal_start.py).
+
+A base motion given per step (vibration.harmonics, vibration.motion: core/base_table.py)
+adds its table's x_b, y_b, z_b and dz_b/dt to the sine's at each step, as the lumped
+model does, and its z_b to the start; stepped only (scene/validation.py check_fe_scene).
 """
 
 import math
@@ -40,6 +44,7 @@ from numba import njit
 
 from ...core.base_motion import (base_displacement, normal_displacement, normal_phase,
                                  vibration_axis)
+from ...core.base_table import base_table, table_moves_along_z, table_row, table_velocity_z
 from ...friction_law import law_kernel
 from ...friction_law.contract import FASTMATH
 from ...core.errors import NoEnergyBalance
@@ -167,6 +172,7 @@ def explicit_steps(first, last, dt,
                    sliding_length, attach_nodes, attach_weights, k_d, v_d, prescribed,
                    amplitude, omega, t_on, cos_theta, sin_theta,
                    amplitude_n, sin_n, cos_n, initial_gap, on_step, start_gain, lift, face_z,
+                   table, table_from, table_period, table_lifts, table_start_vz,
                    F_N, mu_max, normal_limit, use_energy, normal0, v_old, k_q, k_v, sums,
                    reference, u, v, work, force_sum, disp, disp_new, vel_z,
                    states, normal, friction, scalars, recorder, steady):
@@ -187,12 +193,16 @@ def explicit_steps(first, last, dt,
     contact nodes' Z (``face_z``). With
     ``use_energy`` the balance's sums (energy.py, the explicit shadow form) grow
     each step: v_old, k_q, k_v are its scratch vectors, ``normal0`` the preload's forces.
+    ``table`` (from step ``table_from``, repeating every ``table_period`` steps, 0: its
+    last row held; no rows: none) adds the base's motion given per step
+    (core/base_table.py) to the sine's; ``table_lifts``: it moves along Z,
+    ``table_start_vz`` its dz_b/dt half a step before ``on_step``.
     """
     row = recorder[0]
     xb, yb = scalars[XB], scalars[YB]
     zb, zb_before = scalars[ZB], scalars[ZB_BEFORE]
     sin_phase, cos_phase = scalars[SIN], scalars[COS]
-    lifts_off = amplitude_n > 0.0
+    lifts_off = amplitude_n > 0.0 or table_lifts
     cos_step, sin_step = math.cos(omega * dt), math.sin(omega * dt)
     compliance = 0.0   # sum_a w_a^2 / m_a: the attachment's response to a prescribed drive's force
     for a in range(attach_nodes.shape[0]):
@@ -215,8 +225,10 @@ def explicit_steps(first, last, dt,
         if i == on_step and lifts_off:
             # the body onto its forced response (normal_start.py): u_{n+1} at t_{n+1},
             # v_{n+1/2} at the half step, before the contact sees the base
+            k = table_row(table, table_from, table_period, i)
             start_motion(u, reference, v, lift, face_z, area_share, start_gain, t, dt, t_on,
-                         amplitude_n, omega, sin_n, cos_n, 0.5)
+                         amplitude_n, omega, sin_n, cos_n, 0.5,
+                         table[k, 2] if k >= 0 else 0.0, table_start_vz)
 
         # Base at t_{n+1} (eqs 23-25; along Z, base_motion.normal_displacement).
         u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
@@ -226,6 +238,12 @@ def explicit_steps(first, last, dt,
         if lifts_off and t >= t_on:
             zb_new, vzb_new = normal_displacement(amplitude_n, omega, sin_n, cos_n, sin_phase,
                                                   cos_phase)
+        k = table_row(table, table_from, table_period, i)
+        if k >= 0:   # the motion given per step (core/base_table.py), added
+            xb_new += table[k, 0]
+            yb_new += table[k, 1]
+            zb_new += table[k, 2]
+            vzb_new += table[k, 5]
 
         # Contact nodes: normal force and the two-phase friction update (VFRIC analogue).
         contact_motion(u, v, contact_nodes, disp_new, vel_z)
@@ -330,6 +348,12 @@ class ExplicitRun(TimeLoop):
         lift = np.tile([0.0, 0.0, 1.0], dofs // 3)       # every node's Z: the rigid bounce
         face_z = 3 * model.contact_nodes + 2             # the contact nodes' Z
         energy_vectors = [np.zeros(dofs if scene.fem.energy else 0) for _ in range(3)]
+        vib, on_step = scene.vibration, first_step_on(scene)
+        motion = base_table(vib, scene.omega, dt, vib.t_on, on_step, scene.steps)
+        # the table's dz_b/dt half a step before the first step on (start_motion's v)
+        start_vz = table_velocity_z(vib, scene.omega, (on_step - 0.5) * dt - vib.t_on)
+        table = (motion.rows, motion.first_step, motion.period, table_moves_along_z(vib),
+                 start_vz)
         sums = np.zeros(SUMS)
 
         def arguments(first, last):
@@ -342,7 +366,7 @@ class ExplicitRun(TimeLoop):
                 scene.drive.prescribed,
                 scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
                 scene.vibration.normal_amplitude, sin_n, cos_n, model.initial_gap,
-                first_step_on(scene), start_gain(scene, model), lift, face_z,
+                first_step_on(scene), start_gain(scene, model), lift, face_z, *table,
                 c.F_N, scene.mu_max, normal_force_limit(scene, model), scene.fem.energy,
                 model.normal0, *energy_vectors, sums,
                 model.u0, u, v, work, force_sum, disp, disp_new, vel_z,

@@ -431,7 +431,8 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             # response to the base's sinusoid there (normal_start.py), its contact
             # forces afresh; the base moves along it from t_n (normal_over_substeps)
             start_motion(q, origin, v, lift, operators.contact_dofs[:, 2], contact.area_share,
-                         gain, t - dt, dt, t_on, amplitude_n, omega, sin_n, cos_n, 0.0)
+                         gain, t - dt, dt, t_on, amplitude_n, omega, sin_n, cos_n, 0.0, 0.0,
+                         0.0)
             phase = omega * (t - dt - t_on)
             z_on, vz_on = normal_displacement(amplitude_n, omega, sin_n, cos_n, math.sin(phase),
                                               math.cos(phase))

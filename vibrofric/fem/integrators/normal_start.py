@@ -44,6 +44,7 @@ from numba import njit
 
 from ...core.base_motion import first_step_on as base_first_step_on
 from ...core.base_motion import normal_displacement
+from ...core.base_table import moves_along_z, table_speed_z
 from ...core.bounce import bounce_stiffness
 from ...core.law_limits import NORMAL_LIMIT
 from ...friction_law.contract import FASTMATH
@@ -66,16 +67,18 @@ def normal_force_limit(scene, model) -> float:
     """The summed normal force past which a run has diverged (outputs/trouble.py):
     NORMAL_LIMIT times the largest the physics explains, F_N at rest and, where the base
     moves along Z, F_N plus the force of the body meeting its contact at the base's
-    speed amplitude A_n w, A_n w sqrt(k_b m) (a rigid body on the bounce stiffness
+    speed amplitude A_n w (plus a table's largest dz_b/dt, core/base_table.py
+    table_speed_z), A_n w sqrt(k_b m) (a rigid body on the bounce stiffness
     k_b = m w_b^2: 5.5 times the forced swing m w^2 A_n on the paper's block). The
     impacts of a body losing contact reach several F_N (at 1.3 times the threshold on
     the paper's block the coarse mesh's exceeded 10 F_N) and are physics; a diverging
     run grows past any such bound within a few steps."""
     F_N = scene.contact.F_N
-    amplitude = scene.vibration.normal_amplitude
-    if amplitude <= 0.0:
+    vib = scene.vibration
+    if not moves_along_z(vib):
         return NORMAL_LIMIT * F_N
-    impact = amplitude * scene.omega * model.block_mass * bounce_frequency(model, scene)
+    speed = vib.normal_amplitude * scene.omega + table_speed_z(vib, scene.omega)
+    impact = speed * model.block_mass * bounce_frequency(model, scene)
     return NORMAL_LIMIT * (F_N + impact)
 
 
@@ -95,7 +98,7 @@ def start_gain(scene, model):
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def start_motion(u, reference, v, lift, face_z, area_share, gain, t, dt, t_on, amplitude_n,
-                 omega, sin_n, cos_n, lag):
+                 omega, sin_n, cos_n, lag, table_z, table_vz):
     """Put the body, rigidly along ``lift`` (every node's Z, in the integrator's
     coordinates), on its forced response to the base (gain = (H_face, H), start_gain):
     its contact face's mean height from the preload (``reference``),
@@ -105,13 +108,19 @@ def start_motion(u, reference, v, lift, face_z, area_share, gain, t, dt, t_on, a
     Set, not added: whatever the base's first step did to the body (a base starting at
     phi != 0 jumps by A_n sin phi) is replaced. The body must be at its place to a small
     fraction of the base's amplitude: the contact turns a misplacement dz into a force
-    k_pen dz (k_pen A_n ~ 60 F_N on the stiff block of benchmarks/fe_normal_vs_lumped.py)."""
+    k_pen dz (k_pen A_n ~ 60 F_N on the stiff block of benchmarks/fe_normal_vs_lumped.py).
+    ``table_z``, ``table_vz``: a base motion given per step (core/base_table.py), its z_b
+    at t and dz_b/dt at t - lag dt, added to the sine's (0 without one); the gain is the
+    sine's, at w (for a harmonic of order n > 1 the start of a free bounce, as in the
+    lumped model)."""
     phase = omega * (t - t_on)
     z_b, _ = normal_displacement(amplitude_n, omega, sin_n, cos_n, math.sin(phase),
                                  math.cos(phase))
     _, v_lag = normal_displacement(amplitude_n, omega, sin_n, cos_n,
                                        math.sin(phase - omega * lag * dt),
                                        math.cos(phase - omega * lag * dt))
+    z_b += table_z      # a motion given per step: its z_b at t, dz_b/dt at t - lag dt
+    v_lag += table_vz
     z_face = v_face = 0.0
     for c in range(face_z.shape[0]):
         z_face += area_share[c] * (u[face_z[c]] - reference[face_z[c]])

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from ...core.base_table import moves_along_z
 from ...core.chunks import CHUNK_SECONDS, next_chunk
 from ...core.series import COLUMNS as SERIES_COLUMNS
 from ...core.series import RecordPlan
@@ -53,7 +54,8 @@ ENERGY = ("W_drive", "W_base", "E_kin", "E_el", "D_fric", "D_damp")
 W_DRIVE, W_BASE, E_KIN, E_EL, D_FRIC, D_DAMP = range(len(COLUMNS), len(COLUMNS) + len(ENERGY))
 
 
-# A base moving along Z (vibration.normal_amplitude > 0) adds, last, the lumped model's
+# A base moving along Z (vibration.normal_amplitude > 0, or a motion given per step along
+# Z: core/base_table.py) adds, last, the lumped model's
 # normal columns (analytic/normal.py NORMAL_COLUMNS), here for the FE body:
 #   z    the contact face's mean height from the preload, sum_i w_i (u_z,i - u0_z,i) (m)
 #   z_b  the base's height (m)
@@ -72,7 +74,7 @@ def extra_columns(energy: bool, normal: bool = False) -> tuple:
 
 def scene_columns(scene) -> tuple:
     """The recorded columns of an FE run of ``scene``."""
-    return columns(scene.fem.energy, scene.vibration.normal_amplitude > 0.0)
+    return columns(scene.fem.energy, moves_along_z(scene.vibration))
 
 
 def scene_extra_columns(scene) -> tuple:
