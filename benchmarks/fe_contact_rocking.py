@@ -66,11 +66,11 @@ def rocking_modes(scene, count: int) -> str:
                      f"the motion)" for name, (f, share) in found.items())
 
 
-def split(result, model_points, contact_nodes) -> dict:
+def split(points, contact_nodes) -> dict:
     """The front/back and left/right first moments' ranges (N) and the open fractions of
-    the front and back halves, over the tapped window."""
+    the front and back halves, over the tapped window (``points`` the nodes' positions)."""
     node_normals = _window["node_normals"]
-    face = model_points[contact_nodes]
+    face = points[contact_nodes]
     x, y = (face[:, :2] - face[:, :2].mean(axis=0)).T
     front_back = node_normals @ x / (np.ptp(x) / 2)
     left_right = node_normals @ y / (np.ptp(y) / 2)
@@ -117,7 +117,7 @@ def main() -> None:
         fe_scene = scene.with_values({"time.dt": 1.0 / (args.steps_per_cycle * scene.vibration.f)})
         result = run_fe(fe_scene)
         fe = answer_ratio(result, fe_scene)
-        s = split(result, result.fields["coordinates"], result.fields["contact_nodes"])
+        s = split(result.fields["coordinates"], result.fields["contact_nodes"])
         ratio = lumped["F_dv_over_F_d0"]
         print(f"| {level:g} | {ratio:.4f} | {fe:.4f} | {(fe - ratio) / abs(ratio):+.2%} | "
               f"{lumped['contact_loss_fraction']:.3f} | {s['open_front']:.3f} / "
