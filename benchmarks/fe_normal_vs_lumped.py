@@ -1,5 +1,5 @@
 """The FE model against the lumped one with the base moving along Z (docs/validation.md,
-"FE against the lumped model: a base moving along Z").
+"A base moving along Z").
 
 The paper's block (the longitudinal scene, 0.5 kg, contact-plane drive) made
 ``--stiffer`` times stiffer (body.E x 100 by default), so that its own compliance,
@@ -18,6 +18,19 @@ amplitude at which the forced normal-force swing m w^2 A_n / (1 - r^2) reaches F
     contact lost A_n = 1.012 A_th, k_v = 6 (the lumped body out of contact for 9% of
                  its cycle; 1.7e-7 m on the paper's block: tests/test_normal.py)
 
+Losing contact, two things decide which orbit each model settles on (docs/validation.md):
+
+    --block low   the block 5 mm tall on a footprint twice as long and wide (0.06 x 0.08
+                  x 0.005 m, the same 0.5 kg: 20,800 kg/m^3): the pitching moment of
+                  the friction at z = 0 against the inertia at mid-height, and the
+                  pressure swing it makes across the face, 20 times smaller
+    --contact-damping lumped
+                  fem.damping = c_n / k_pen, c_n = 2 zeta_n sqrt(k_n m) the lumped
+                  contact's dashpot (analytic/normal.py contact_damping): each node's
+                  penalty dashpot beta k_pen,i then sums to the lumped one (the FE
+                  default's damping ratio is ~3e-3, the lumped default 0.02)
+    --zeta-n      contact.zeta_n, the lumped contact's damping ratio (0.02)
+
 The vibration starts at the scene's t_on (0.14 s of sliding). The FE model answers
 by its steady cycle (time.method auto: the shooting of integrators/periodic.py, or
 stepped through time.T = t_on + ``--cycles`` / f where it finds none) with its
@@ -29,11 +42,15 @@ T, both averaging the last 20 cycles. (Stepped for 60 cycles from 5 ms of slidin
 
     .venv/bin/python benchmarks/fe_normal_vs_lumped.py [--mesh coarse] [--cycles 800]
         [--stiffer 100] [--steps-per-cycle 200] [--lumped-dt 5e-7]
-        (docs/validation.md's table: --stiffer 10)
+        [--block paper|low] [--contact-damping fe|lumped] [--zeta-n 0.02]
+        [--lumped-only]
+        (docs/validation.md's tables: --stiffer 10 --block low --contact-damping
+        lumped [--zeta-n 0.05], with and without --levels ... --kv 6; its scan of
+        the lumped orbits: --levels 1.0,1.002,...,1.03 --kv 6 --lumped-only)
     .venv/bin/python benchmarks/fe_normal_vs_lumped.py --stiffer 1 --integrator explicit
         --levels 0.6,0.8,0.95,1.012
-        (the normal motion alone, k_v = 0, at those fractions of A_th; the explicit
-        FE run at the lumped time.dt: docs/validation.md's second table)
+        (the normal motion alone, k_v = 0 (``--kv``), at those fractions of A_th; the
+        explicit FE run at the lumped time.dt: docs/validation.md's paper's-block table)
 
 prints a markdown table: each model's F_dv/F_d0, their relative difference, each
 one's contact_loss_fraction and summed normal force's range, and the FE judgement.
@@ -44,6 +61,7 @@ import math
 import platform
 import time
 
+from vibrofric.analytic.normal import contact_damping
 from vibrofric.analytic.solve import solve
 from vibrofric.api import load_scene
 from vibrofric.core.bounce import bounce_stiffness, default_penalty
@@ -51,6 +69,7 @@ from vibrofric.fem import run_fe
 from vibrofric.fem.simulate import answer_ratio
 
 STIFFER = 100.0
+BLOCKS = {"paper": (0.03, 0.04, 0.053), "low": (0.06, 0.08, 0.005)}   # body.size (m)
 AVERAGED = 20
 CASES = (("no normal motion", 0.0, None, 6.0, {}),
          ("in contact", 0.45, None, 6.0, {}),
@@ -59,21 +78,29 @@ CASES = (("no normal motion", 0.0, None, 6.0, {}),
          ("contact lost", 1.012, None, 6.0, {}))
 
 
-def stiff_scene(mesh: str, cycles: int, stiffer: float = STIFFER, **keys):
+def stiff_scene(mesh: str, cycles: int, stiffer: float = STIFFER, block: str = "paper",
+                damping: str = "fe", **keys):
     """The longitudinal scene on the block ``stiffer`` times stiffer, penalty and lumped
-    k_n matched."""
+    k_n matched; ``block`` names its size (BLOCKS, the same mass), ``damping`` "lumped"
+    sets fem.damping so that the FE contact's dashpots sum to the lumped one's
+    (c_n = 2 contact.zeta_n sqrt(k_n m))."""
     base = load_scene("longitudinal")
     body = base.body
     E = stiffer * body.E
-    penalty = default_penalty(body.E, body.size)
-    rho = body.mass / math.prod(body.size)
-    k_n = bounce_stiffness(body.mass, E, rho, body.size, penalty)
+    size = BLOCKS[block]
+    penalty = default_penalty(body.E, body.size)     # the paper's block's, for every block
+    rho = body.mass / math.prod(size)
+    k_n = bounce_stiffness(body.mass, E, rho, size, penalty)
     f, t_on = base.vibration.f, base.vibration.t_on
-    values = {"body.E": E, "fem.penalty": penalty, "contact.k_n": k_n, "fem.mesh": mesh,
+    values = {"body.E": E, "body.size": list(size), "fem.penalty": penalty,
+              "contact.k_n": k_n, "fem.mesh": mesh,
               "fem.integrator": "reduced", "time.T": t_on + cycles / f,
               "time.average_cycles": AVERAGED, "time.method": "auto",
               "time.error_estimate": False, "fem.output_every": 0, **keys}
-    return load_scene("longitudinal", **values)
+    scene = load_scene("longitudinal", **values)
+    if damping == "lumped":
+        scene = scene.with_values({"fem.damping": contact_damping(scene) / penalty})
+    return scene
 
 
 def threshold(scene) -> float:
@@ -98,14 +125,27 @@ def main() -> None:
     parser.add_argument("--lumped-dt", type=float, default=5e-7)
     parser.add_argument("--integrator", default="reduced", choices=("reduced", "explicit"))
     parser.add_argument("--levels", default=None,
-                        help="comma-separated fractions of A_th: the normal motion alone")
+                        help="comma-separated fractions of A_th, at k_v = --kv, phase 0")
+    parser.add_argument("--kv", type=float, default=0.0,
+                        help="vibration.k_v of the --levels rows (0: the normal motion alone)")
+    parser.add_argument("--block", default="paper", choices=tuple(BLOCKS))
+    parser.add_argument("--contact-damping", default="fe", choices=("fe", "lumped"))
+    parser.add_argument("--zeta-n", type=float, default=None, help="contact.zeta_n")
+    parser.add_argument("--lumped-only", action="store_true",
+                        help="the lumped model's columns alone (a fine scan of --levels)")
     args = parser.parse_args()
+    label = "normal only" if args.kv == 0.0 else f"k_v = {args.kv:g}"
     cases = CASES if args.levels is None else tuple(
-        (f"normal only, {level:g} A_th", level, None, 0.0, {})
+        (f"{label}, {level:g} A_th", level, None, args.kv, {})
         for level in map(float, args.levels.split(",")))
-    probe = stiff_scene(args.mesh, args.cycles, args.stiffer)
+    posed = {"block": args.block, "damping": args.contact_damping}
+    if args.zeta_n is not None:
+        posed["contact.zeta_n"] = args.zeta_n
+    probe = stiff_scene(args.mesh, args.cycles, args.stiffer, **posed)
     a_th = threshold(probe)
-    print(f"Stiff block (E x {args.stiffer:g}), fem.penalty {probe.fem.penalty:.4g} N/m, "
+    print(f"Block {list(probe.body.size)} m (E x {args.stiffer:g}), fem.damping "
+          f"{probe.fem.damping:.4g} s (0: its default), contact.zeta_n "
+          f"{probe.contact.zeta_n:g}, fem.penalty {probe.fem.penalty:.4g} N/m, "
           f"contact.k_n {probe.normal_stiffness:.4g} N/m, A_th = {a_th:.3g} m; mesh {args.mesh}, "
           f"{args.integrator} at {fe_step(args, probe.vibration.f):.3g} s, lumped at "
           f"{args.lumped_dt:g} s; "
@@ -120,12 +160,17 @@ def main() -> None:
                 "time.dt": args.lumped_dt, **extra}
         if phase is not None:
             keys["vibration.normal_phase_deg"] = phase
-        lumped_scene = stiff_scene(args.mesh, args.cycles, args.stiffer, **keys)
+        lumped_scene = stiff_scene(args.mesh, args.cycles, args.stiffer, **posed, **keys)
         try:
             _, lumped = solve(lumped_scene.with_values({"time.method": "transient"}))
         except Exception as trouble:     # a failed run is a row of the table
             print(f"| {name} | {level * a_th:.3g} | {phase or 0:g} | {k_v:g} | "
                   f"lumped failed: {trouble} |", flush=True)
+            continue
+        if args.lumped_only:
+            print(f"| {name} | {level * a_th:.3g} | {phase or 0:g} | {k_v:g} | "
+                  f"{lumped['F_dv_over_F_d0']:.4f} | | | {lumped['contact_loss_fraction']:.3f} | "
+                  f"| {lumped['normal_force_min']:.3g}-{lumped['normal_force_max']:.3g} |", flush=True)
             continue
         fe_scene = lumped_scene.with_values(
             {"time.dt": fe_step(args, lumped_scene.vibration.f), "fem.integrator": args.integrator})

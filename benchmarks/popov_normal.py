@@ -15,7 +15,7 @@ the body driven at exactly v_d (drive.mode "velocity": the stiff system), the ba
 moving along Z at r = w / w_n = 20 (the body too heavy to follow it). Its normal
 force then swings about F_N, sinusoidal while in contact, by
 k_n A_n r^2 sqrt(1 + (2 zeta r)^2) / sqrt((1 - r^2)^2 + (2 zeta r)^2) (the contact's
-dashpot, zeta = analytic.normal.ZETA_N, adds 28% at r = 20): A_n is set so that this
+dashpot, zeta = contact.zeta_n, the scene's default, adds 28% at r = 20): A_n is set so that this
 is alpha F_N. Dahl's law with exponent 0 is the elastic-perfectly-plastic contact of
 the closed form (k_t = k_x); the paper's exponent 1 approaches the limit gradually
 and is shown beside it. 1000 steps a cycle; each answer the periodic orbit, with its
@@ -28,7 +28,7 @@ import math
 
 import vibrofric as vf
 from vibrofric.analytic.closed_form import normal_oscillation_ratio
-from vibrofric.analytic.normal import ZETA_N
+from vibrofric.scene.schema import Contact
 
 F_N, MU, K_T, F, MASS, R = 55.0, 0.1, 2e6, 4000.0, 0.5, 20.0
 STEPS_PER_CYCLE = 1000
@@ -48,7 +48,7 @@ def popov_scene(v_tilde: float, alpha: float, exponent: float):
     """The scene of Popov's groups (v_tilde, alpha) (module docstring)."""
     omega = 2.0 * math.pi * F
     k_n = MASS * (omega / R) ** 2
-    amplitude = alpha * F_N / (k_n * force_swing_gain(R, ZETA_N))
+    amplitude = alpha * F_N / (k_n * force_swing_gain(R, Contact().zeta_n))
     v_d = v_tilde * omega * MU * alpha * F_N / K_T
     return vf.load_scene("longitudinal", drive__mode="velocity", drive__v_d=v_d,
                          contact__F_N=F_N, contact__mu=MU, contact__k_t=K_T,

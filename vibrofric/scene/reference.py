@@ -23,6 +23,7 @@ UNITS = {
     "body.gravity": "m/s^2", "body.radius": "m", "body.height": "m", "body.length": "m",
     "body.edge_radius": "m",
     "contact.F_N": "N", "contact.eta_y": "", "contact.k_n": "N/m",
+    "contact.zeta_n": "",
     "drive.k_d": "N/m", "drive.v_d": "m/s",
     "vibration.f": "Hz", "vibration.k_v": "", "vibration.theta_deg": "deg", "vibration.t_on": "s",
     "vibration.normal_amplitude": "m", "vibration.normal_phase_deg": "deg",

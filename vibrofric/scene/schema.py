@@ -83,6 +83,9 @@ class Contact:
                                            # its penalty contact fem.penalty (core/bounce.py);
                                            # a body other than the block sets it to move the
                                            # base along Z
+    zeta_n: float = 0.02                   # the lumped body's normal contact damping ratio: its
+                                           # dashpot c_n = 2 zeta_n sqrt(k_n m) (analytic/normal.py;
+                                           # the FE contact's dashpots are fem.damping's)
     parameters: dict = field(default_factory=dict)  # [contact]'s law parameters
     tables: dict = field(default_factory=dict)      # {law_key: {parameter: value}}
 
@@ -91,7 +94,7 @@ class Contact:
         which the generated hash of a frozen dataclass cannot take), as == compares them."""
         tables = tuple(sorted((name, tuple(sorted(table.items())))
                               for name, table in self.tables.items()))
-        return hash((self.law, self.F_N, self.eta_y, self.k_n, tuple(sorted(self.parameters.items())),
+        return hash((self.law, self.F_N, self.eta_y, self.k_n, self.zeta_n, tuple(sorted(self.parameters.items())),
                      tables))
 
     @property
@@ -121,7 +124,7 @@ def law_key(name: str) -> str:
     return name.rpartition(".")[2]
 
 
-CONTACT_KEYS = ("law", "F_N", "eta_y", "k_n")     # the model's keys in [contact]; the rest are the law's
+CONTACT_KEYS = ("law", "F_N", "eta_y", "k_n", "zeta_n")     # the model's keys in [contact]; the rest are the law's
 
 
 @dataclass(frozen=True)

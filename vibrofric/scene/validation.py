@@ -125,6 +125,8 @@ def validate(scene: Scene) -> None:
         raise SceneError("contact.eta_y", f"must lie in [0, 1], got {scene.contact.eta_y}")
     if scene.contact.k_n is not None and scene.contact.k_n <= 0:
         raise SceneError("contact.k_n", f"must be > 0, got {scene.contact.k_n}")
+    if not scene.contact.zeta_n >= 0.0:
+        raise SceneError("contact.zeta_n", f"must be >= 0, got {scene.contact.zeta_n}")
     if moves_along_z(scene.vibration) and scene.contact.k_n is None and not scene.body.is_block:
         raise SceneError("contact.k_n", "needed for a base moving along Z under a body other "
                                         "than the block: its default is matched to the FE "
