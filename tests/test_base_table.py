@@ -27,7 +27,8 @@ def _sine_csv(path, scene, periodic=True, steps_per_row=1, z_amplitude=0.0):
     if periodic:
         x[-1], z[-1] = x[0], z[0]
     lines = ["# a sampled sine", "t,x_b,y_b,z_b"]
-    lines += [f"{a!r},{b!r},0.0,{c!r}" for a, b, c in zip(t, x, z)]
+    # (as Python floats: numpy 2's repr of a float64 is "np.float64(...)")
+    lines += [f"{float(a)!r},{float(b)!r},0.0,{float(c)!r}" for a, b, c in zip(t, x, z)]
     path.write_text("\n".join(lines) + "\n")
     return path
 

@@ -13,9 +13,9 @@ class NumericalError(RuntimeError):
 
 
 class BodyLeftContact(NumericalError):
-    """A run stopped because the body left its contact with the base: it tipped over the
-    edge of its patch, or lost all contact. Physics, not numbers; stopped and reported
-    like numerical trouble (nothing written)."""
+    """A run stopped because the body tipped over the edge of its contact patch
+    (fem/outputs/tipping.py). Physics, not numbers; stopped and reported like numerical
+    trouble (nothing written)."""
 
 
 class Refusal(ValueError):

@@ -8,7 +8,7 @@ import math
 
 from numba import njit
 
-from ...core.errors import BodyLeftContact, NumericalError
+from ...core.errors import NumericalError
 from ...core.law_limits import DIVERGED, NORMAL_LIMIT
 
 # Codes returned by the time loops, and what they mean.
@@ -52,15 +52,13 @@ def step_trouble(f_d, f_n, friction_magnitude, F_N, mu_max, normal_limit, lifts_
 def failure(step, code, scene, hint) -> NumericalError:
     """The error for a run that stopped at ``step`` with ``code``; ``hint`` says what to change.
 
-    The paper's explicit Dahl update diverging gets its own hint whatever the integrator;
-    a body that left the base (LIFT_OFF) is physics, stopped without a numerical hint.
+    The paper's explicit Dahl update diverging gets its own hint whatever the integrator.
+    A body that left the base (LIFT_OFF) keeps the integrator's hint: a step past the
+    stable one throws the body off the base as often as it makes a NaN.
     """
     dt = scene.time.dt
     if code == FRICTION_DIVERGED and scene.contact.law_values.get("update") == "paper":
         hint = ("the paper's explicit Dahl update is stable only while |v_r| dt < 2 s_c per node; "
                 "use contact.update = \"exact\" or a smaller time.dt")
-    if code == LIFT_OFF:
-        return BodyLeftContact(f"FE run stopped at t = {step * dt:.6g} s (step {step}, dt = "
-                               f"{dt:g} s): {_WHAT[code]}")
     return NumericalError(f"FE run failed at t = {step * dt:.6g} s (step {step}, dt = {dt:g} s): "
                           f"{_WHAT[code]}; {hint}")
