@@ -51,7 +51,7 @@ ROOT = Path(__file__).resolve().parent.parent
 # name: (body, scene file, fem.mesh, the ball's body divisions or None, the integrators
 # whose step is timed). The ball's implicit integrator is left out: its set-up (the
 # contact space, a column of A^-1 for each of the 1,692 candidate DOFs, solve by solve)
-# ran over 7 min on the 20k ball before its first step.
+# ran more than 6 min on the 20k ball without reaching its first step.
 ALL = ("explicit", "implicit", "reduced")
 CASES = {
     "ball-20k": ("ball", "scenes/ball.toml", "fine", 12, ("explicit", "reduced")),

@@ -164,7 +164,8 @@ def spd_factor(matrix, order=None):
     (dolfinx_adapter.cholesky: CHOLMOD, its own fill-reducing order and dense kernels),
     where the stack has none symmetric_lu's minimum degree. On the fine ball (23k DOFs,
     tetrahedra) CHOLMOD factorized in 1.2 s and solved 564 right-hand sides in 2.6 s,
-    SuperLU in 24-34 s and ~25 s (docs/performance.md, 2026-11-27)."""
+    SuperLU in 24-34 s and ~25 s (docs/performance.md, "2026-11-27: the FE ball and block
+    from 20k to 100k DOFs")."""
     if order is None:
         from . import dolfinx_adapter
 
