@@ -22,8 +22,9 @@ cache the first left. Each process times
     reduction   the reduced integrator's set-up (reduction.reduced: constraint and
                 fixed-interface modes, the projected matrices), its error estimate apart
     a step      of each integrator: explicit at 0.9 of the model's stable step, implicit
-                and reduced at IMPLICIT_DT, STEPS steps timed after WARM_STEPS (numba's
-                loops compiled before any timing: ``vibrofric warm`` or any earlier run)
+                and reduced at IMPLICIT_DT or, where their contact iteration refuses it
+                (core.errors.StepTooLong), just below the step it names; STEPS steps
+                timed after WARM_STEPS (which take numba's compiling, if any)
 
 and the counts: DOFs, contact candidates, nodes in the preload's patch.
 
@@ -31,7 +32,7 @@ and the counts: DOFs, contact candidates, nodes in the preload's patch.
         [--out results/body_scaling.json]
 
 prints a Markdown table and the fitted exponents p of time ~ DOFs^p per body. The
-100k cases take minutes and over a GB each: run them once.
+100k ball took 6 min and peaked at 10.6 GB (its first run's reduction): run it once.
 """
 
 import argparse
