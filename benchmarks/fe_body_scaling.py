@@ -32,7 +32,7 @@ and the counts: DOFs, contact candidates, nodes in the preload's patch.
         [--out results/body_scaling.json]
 
 prints a Markdown table and the fitted exponents p of time ~ DOFs^p per body. The
-100k ball took 6 min and peaked at 10.6 GB (its first run's reduction): run it once.
+100k ball took 5 min and peaked at 10.6 GB (its first run's reduction): run it once.
 """
 
 import argparse
