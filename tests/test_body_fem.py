@@ -191,7 +191,7 @@ def test_a_patch_that_comes_back_is_refused_not_looped(monkeypatch):
             u[2], u[5] = next(solves)
             return u
 
-    monkeypatch.setattr(preload, "symmetric_lu", lambda matrix, order=None: Alternating())
+    monkeypatch.setattr(preload, "spd_factor", lambda matrix, order=None: Alternating())
     # the condensed first step as the whole system's: the pulling node opens
     monkeypatch.setattr(preload, "patch_iteration",
                         lambda lu, z, dofs, k, gap0, y0: gap0 + y0 <= 0.0)
@@ -363,8 +363,8 @@ def test_the_condensed_patch_iteration_finds_the_whole_systems_patch(monkeypatch
     args = (model.disc.stiffness, model.load, model.contact_nodes, model.penalty_share, share,
             scene.law_bounds.stiffness, scene.contact.F_N, None, model.initial_gap)
     factorizations = []
-    factorize = preload.symmetric_lu
-    monkeypatch.setattr(preload, "symmetric_lu",
+    factorize = preload.spd_factor
+    monkeypatch.setattr(preload, "spd_factor",
                         lambda matrix, order=None: factorizations.append(1) or factorize(matrix, order))
     condensed = preload.static_preload(*args)
     # A_0's and the found patch's: a wrong patch would have taken the whole-system steps on

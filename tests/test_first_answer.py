@@ -115,15 +115,19 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
     reduction.forget()
     first_reduction = reduction.reduced(first, scene.fem.cutoff * scene.vibration.f)
     entries = sorted(p.name.split("-")[0] for p in model_cache_dir.glob("*.npz"))
-    assert entries == ["body", "reduction", "source"]
+    assert entries == ["body", "preload", "reduction", "source"]
 
     def no_assembly(*args, **kwargs):
         raise AssertionError("assembled again despite the cache")
+
+    def no_preload(*args, **kwargs):
+        raise AssertionError("preloaded again despite the cache")
 
     def no_reduction(*args, **kwargs):
         raise AssertionError("reduced again despite the cache")
 
     monkeypatch.setattr(model_cache, "assemble_body", no_assembly)
+    monkeypatch.setattr(fe_model, "static_preload", no_preload)
     monkeypatch.setattr(reduction.Reduction, "__init__", no_reduction)
     reduction.forget()
     second = fe_model.build_model(scene, MPI.COMM_SELF)
@@ -134,6 +138,8 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
     assert (np.array_equal(K1.indptr, K2.indptr) and np.array_equal(K1.indices, K2.indices)
             and np.array_equal(K1.data, K2.data))
     assert np.array_equal(first.u0, second.u0) and first.dt_stable == second.dt_stable
+    assert (np.array_equal(first.normal0, second.normal0)
+            and np.array_equal(first.in_contact0, second.in_contact0))
     for name in reduction.Reduction.STORED:
         assert np.array_equal(getattr(first_reduction, name), getattr(second_reduction, name))
     reduction.forget()

@@ -78,7 +78,7 @@ from ...core.law_limits import sliding_length
 from ..model import model_cache
 from .generalized_alpha import LinearSystem
 from .implicit import ImplicitRun
-from ..model.linalg import dof_points, nested_dissection, symmetric_lu
+from ..model.linalg import dof_points, nested_dissection, spd_factor, symmetric_lu
 
 # Harmonics of the excitation at which the compliance is compared (compared_harmonics),
 # and the loss factor.
@@ -167,7 +167,7 @@ class Reduction:
         # the sparse LU's minimum degree
         order = (None if model.elimination_order is None
                  else nested_dissection(dof_points(model.disc.coordinates)[interior]))
-        lu = symmetric_lu(K_ii, order)
+        lu = spd_factor(K_ii, order)
         constraint = -lu.solve(K_ib.toarray())                  # Psi
         modes, omega = self._modes(K_ii, mass_i, lu, 2.0 * math.pi * cutoff_hz)
         drive = np.zeros(n)

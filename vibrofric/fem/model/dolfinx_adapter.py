@@ -1,5 +1,5 @@
 """DOLFINx behind one door: mesh from gmsh, vector Q1 space, K, lumped M, face areas, cells,
-the cell-wise stress operator.
+the cell-wise stress operator; and the stack's sparse Cholesky (PETSc's CHOLMOD).
 
 The only module that imports DOLFINx, UFL, petsc4py and DOLFINx's gmsh bridge.
 Everything it returns is plain numpy / scipy, except the mesh and space handles
@@ -265,3 +265,84 @@ def cells(V):
     rows = np.asarray(topology).reshape(-1, corners + 1)  # [corners, n_0 ...] per cell
     assert np.all(rows[:, 0] == corners)
     return rows[:, 1:].astype(np.int64), vtk_type
+
+
+# The sparse Cholesky of the DOLFINx stack's PETSc (CHOLMOD: Chen, Davis, Hager and
+# Rajamanickam, ACM TOMS 35 (2008) 22), whether this PETSc has it (None: not asked yet).
+_cholmod_present = None
+# Right-hand sides solved at once by CholeskyFactor.solve (bounds the dense copies PETSc
+# takes of them: 256 columns of a 100k-DOF body are 200 MB)
+SOLVE_BATCH = 256
+
+
+class CholeskyFactor:
+    """L L^T of a real symmetric positive definite sparse matrix, by CHOLMOD through
+    PETSc, ordered by CHOLMOD itself. ``solve(b)``: b of shape (n,) or (n, k)."""
+
+    def __init__(self, PETSc, matrix):
+        csr = sp.csr_matrix(matrix, dtype=float)
+        csr.sort_indices()
+        index = PETSc.IntType
+        self._PETSc = PETSc
+        self._matrix = PETSc.Mat().createAIJ(
+            size=csr.shape, csr=(csr.indptr.astype(index), csr.indices.astype(index), csr.data),
+            comm=PETSc.COMM_SELF)
+        self._matrix.setOption(PETSc.Mat.Option.SPD, True)
+        self._ksp = PETSc.KSP().create(PETSc.COMM_SELF)
+        self._ksp.setOperators(self._matrix)
+        self._ksp.setType("preonly")
+        pc = self._ksp.getPC()
+        pc.setType("cholesky")
+        pc.setFactorSolverType("cholmod")
+        self._ksp.setUp()
+        self._factor = pc.getFactorMatrix()
+        self.shape = csr.shape
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        PETSc, n = self._PETSc, self.shape[0]
+        b = np.asarray(b, dtype=float)
+        if b.ndim == 1:
+            x = np.zeros(n)
+            self._factor.solve(PETSc.Vec().createWithArray(np.array(b), comm=PETSc.COMM_SELF),
+                               PETSc.Vec().createWithArray(x, comm=PETSc.COMM_SELF))
+            return x
+        x = np.empty(b.shape)
+        for first in range(0, b.shape[1], SOLVE_BATCH):
+            columns = b[:, first:first + SOLVE_BATCH]
+            k = columns.shape[1]
+            rhs = PETSc.Mat().createDense((n, k), array=np.asfortranarray(columns).ravel(order="F"),
+                                          comm=PETSc.COMM_SELF)
+            out = PETSc.Mat().createDense((n, k), comm=PETSc.COMM_SELF)
+            out.setUp()
+            self._factor.matSolve(rhs, out)
+            x[:, first:first + k] = out.getDenseArray()
+            rhs.destroy()
+            out.destroy()
+        return x
+
+
+def cholesky(matrix):
+    """The CholeskyFactor of a real symmetric positive definite sparse matrix, or None
+    where the installed stack has no petsc4py or its PETSc no CHOLMOD (the caller then
+    factorizes with SciPy). Imports petsc4py (and mpi4py) only when called."""
+    global _cholmod_present
+    if _cholmod_present is False:
+        return None
+    try:
+        from mpi4py import MPI  # noqa: F401  (before petsc4py, as _dolfinx)
+        if "petsc4py.PETSc" not in sys.modules:
+            import petsc4py
+            petsc4py.init(["-no_signal_handler"])
+        from petsc4py import PETSc
+    except ImportError:
+        _cholmod_present = False
+        return None
+    try:
+        factor = CholeskyFactor(PETSc, matrix)
+    except PETSc.Error:
+        if _cholmod_present:   # CHOLMOD worked before: this matrix is the trouble
+            raise
+        _cholmod_present = False
+        return None
+    _cholmod_present = True
+    return factor

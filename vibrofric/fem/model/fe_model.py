@@ -17,7 +17,8 @@
    fem.normal_force (contact.nominal_normal);
 4. the drive's attachment nodes and weights (drive.py), a front-face drive that
    would tip the body refused (check_tipping);
-5. the static preload u0 and its contact patch (preload.py);
+5. the static preload u0 and its contact patch (preload.py), read from the model
+   cache after the first run on the same inputs;
 6. the highest frequency, the damping and the stable step (stability.py).
 
 Damping (fem.damping = beta, seconds; C = beta (K + K_pen), stability.py).
@@ -307,8 +308,8 @@ def _built(scene, comm) -> FEModel:
     elimination_order = (nested_dissection(dof_points(disc.coordinates))
                          if on_grid(disc.coordinates) else None)
 
-    u0, normal0, in_contact0 = static_preload(
-        disc.stiffness, load, contact_nodes, penalty_share, candidate_share,
+    u0, normal0, in_contact0 = model_cache.preload(
+        static_preload, disc.stiffness, load, contact_nodes, penalty_share, candidate_share,
         scene.law_bounds.stiffness, scene.contact.F_N, elimination_order, gap0)
     check_tipping(scene, disc, contact_nodes[in_contact0], contact_area[in_contact0])
     area_share = patch_share(contact_area, in_contact0)

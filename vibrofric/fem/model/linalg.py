@@ -157,6 +157,24 @@ def symmetric_lu(matrix, order=None):
                     options=dict(SymmetricMode=True))
 
 
+def spd_factor(matrix, order=None):
+    """A factorization of a real symmetric positive definite sparse matrix, with
+    ``.solve(b)`` for b (n,) or (n, k): on the block's grid (``order`` given) its
+    symmetric_lu as ever; on any other mesh the DOLFINx stack's Cholesky
+    (dolfinx_adapter.cholesky: CHOLMOD, its own fill-reducing order and dense kernels),
+    where the stack has none symmetric_lu's minimum degree. On the fine ball (23k DOFs,
+    tetrahedra) CHOLMOD factorized in 1.2 s and solved 564 right-hand sides in 2.6 s,
+    SuperLU in 24-34 s and ~25 s (docs/performance.md, "2026-11-27: the FE ball and block
+    from 20k to 100k DOFs")."""
+    if order is None:
+        from . import dolfinx_adapter
+
+        factor = dolfinx_adapter.cholesky(matrix)
+        if factor is not None:
+            return factor
+    return symmetric_lu(matrix, order)
+
+
 def dof_points(coordinates) -> np.ndarray:
     """(3 nodes, 3): every DOF at its node's position (node d carries DOFs 3 d + c)."""
     return np.repeat(coordinates, 3, axis=0)

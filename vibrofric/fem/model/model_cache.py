@@ -14,6 +14,10 @@ sweep on one body, would build the same again. This module keeps them in
     source-<key>.npz      the name of the body entry a scene's body at a mesh level was
                           built into: keyed by what the scene says of its body and the
                           level (fe_model.cached_levels asks it without meshing)
+    preload-<key>.npz     the static preload (preload.static_preload): u0, the contact
+                          forces and patch, keyed by a digest of everything it is solved
+                          from (K, the load, the candidates, their springs, shares and
+                          gaps, k_t, F_N, the elimination order)
     reduction-<key>.npz   reduction.Reduction's arrays: keyed by the model's content
                           (reduction.model_key), the cutoff, numpy's, scipy's and
                           the package's versions
@@ -44,6 +48,7 @@ import json
 import os
 
 import numpy as np
+import scipy
 import scipy.sparse as sp
 
 from ... import __version__, disk_cache
@@ -161,6 +166,29 @@ def body(comm, body_mesh, E, nu, density, groups, source=None) -> Discretization
             disk_cache.write_entry(alias, name)
             disk_cache.prune(alias.parent, "source-*.npz", SOURCES_KEPT)
     return disc
+
+
+def preload(solve, stiffness, load, nodes, penalty_share, area_share, k_t, F_N, order,
+            initial_gap) -> tuple:
+    """``solve(...)``'s (u0, normal, in_contact) (preload.static_preload, which it is given
+    with these arguments), from the cache when it holds them: a curved body's preload
+    factorizes the whole model (docs/performance.md, 2026-11-27). A refusal is not kept."""
+    digest = hashlib.blake2b(digest_size=16)
+    for array in (stiffness.indptr, stiffness.indices, stiffness.data, load, nodes,
+                  penalty_share, area_share, initial_gap,
+                  np.zeros(0) if order is None else order):
+        digest.update(np.ascontiguousarray(array).tobytes())
+    parts = {"inputs": digest.hexdigest(), "k_t": float(k_t), "F_N": float(F_N),
+             "ordered": order is not None, "numpy": np.__version__,
+             "scipy": scipy.__version__, "dolfinx": dolfinx_version()}
+
+    def build():
+        u0, normal, in_contact = solve(stiffness, load, nodes, penalty_share, area_share, k_t,
+                                       F_N, order, initial_gap)
+        return {"u0": u0, "normal": normal, "in_contact": in_contact}
+
+    arrays = cached("preload", parts, build)
+    return arrays["u0"], arrays["normal"], arrays["in_contact"]
 
 
 # Source entries kept (each a few bytes): those of the kept bodies, at every level

@@ -44,7 +44,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ...core.errors import NormalLoadTooSmall, PatchUnresolved
-from .linalg import symmetric_lu
+from .linalg import spd_factor
 
 REGULARIZATION = 1e-9
 RELATIVE_TOLERANCE = 1e-8  # on sum N_i = F_N: a direct solve gives ~1e-12
@@ -55,7 +55,7 @@ def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, 
     """Return (u0, normal, in_contact): the static displacement (dofs,), the contact
     forces (n,) and the contact patch (n,) bool.
 
-    ``order``: the DOFs' elimination order for the factorization (linalg.symmetric_lu);
+    ``order``: the DOFs' elimination order for the factorization (linalg.spd_factor);
     ``initial_gap``: (n,) the candidates' gaps at rest, m (None: all 0, a flat face).
 
     The first solve has every candidate in the patch (A_0). Where it leaves a node
@@ -104,7 +104,7 @@ def _solve(stiffness, load, nodes, penalty_share, area_share, k_t, order, gap0, 
     springs[3 * nodes] = springs[3 * nodes + 1] = REGULARIZATION * k_t * area_share
     force = load.copy()
     force[z[active]] -= penalty_share[active] * gap0[active]  # 0 on a flat face: f itself
-    lu = symmetric_lu(stiffness + sp.diags(springs), order)
+    lu = spd_factor(stiffness + sp.diags(springs), order)
     return lu, lu.solve(force)
 
 
