@@ -240,6 +240,7 @@ def stick_radius_fit(result, mu=MU):
     slope, intercept = np.polyfit(r2[stuck], y, 1)
     return math.sqrt(-intercept / slope), float(slope)
 
+
 # Mindlin-Deresiewicz: the held ball at rest (the drive at 1e-9 m/s: 1e-11 m over the
 # run) on the base moving in X as u0 sin(w t), slow against the ball (a shear wave crosses
 # it in R / sqrt(G / rho) = 20 us, a 100th of a 500 Hz cycle; the ball rings at 15 kHz), so
@@ -280,13 +281,14 @@ def cycle_dissipation(result, frequency=CYCLE_FREQUENCY):
     s = result.series
     row = s.t[1] - s.t[0]
     spectrum = np.abs(np.fft.rfft(s.F_d - s.F_d.mean()))
-    rate = np.fft.rfftfreq(s.F_d.size, row)
-    fast = rate > 10.0 * frequency
-    rows = max(1, int(round(1.0 / rate[fast][spectrum[fast].argmax()] / row)))
+    frequencies = np.fft.rfftfreq(s.F_d.size, row)
+    fast = frequencies > 10.0 * frequency
+    rows = max(1, int(round(1.0 / frequencies[fast][spectrum[fast].argmax()] / row)))
     window = np.ones(rows) / rows
     t, Q, relative = (np.convolve(y, window, "valid") for y in (s.t, s.F_d, s.x - s.x_b))
     if s.t[-1] < (1.25 - 1e-6) / frequency:
-        raise ValueError(f"a run of {s.t[-1]:g} s holds no steady cycle at {frequency:g} Hz")
+        raise ValueError(f"a run of {s.t[-1]:g} s holds no whole cycle at {frequency:g} Hz "
+                         "after its first quarter")
     cycle = t >= t[-1] - 1.0 / frequency - 0.5 * row
     Q, relative = Q[cycle], relative[cycle]
     return 0.5 * (Q.max() - Q.min()), abs(float(np.trapz(Q, relative)))
