@@ -19,8 +19,11 @@ Johnson, Contact Mechanics, eqs 7.40 and 7.42):
     slip part q=...     x(Q) - C_stuck Q against delta(Q) - C_0 Q, no slope of the closed
                         form used (stricter: a difference of near numbers, the mesh's
                         discrete slip front in it)
-    c q=...             the stick radius (tests/pulled_ball.py stick_radius) against
-                        a (1 - q)^(1/3)
+    c q=...             the stick radius against a (1 - q)^(1/3), read from the nodes'
+                        states (tests/pulled_ball.py stick_radius: to half a node
+                        spacing) and, "fit", from the stuck nodes' tractions on
+                        Mindlin's shape (stick_radius_fit; its slope, -1 for Mindlin's
+                        field, in "slope")
 
     PYTHONPATH=. python benchmarks/cattaneo_mindlin.py [--sizes 1.5e-4 1e-4]
 
@@ -54,8 +57,10 @@ def main():
     print("| pole mesh | nodes | closed | C_stuck / C_0 | "
           + " | ".join(f"delta q={q}" for q in DELTA_AT) + " | "
           + " | ".join(f"slip part q={q}" for q in DELTA_AT) + " | "
-          + " | ".join(f"c q={q}" for q in STICK_AT) + " | s |")
-    print("|---" * (5 + 2 * len(DELTA_AT) + len(STICK_AT)) + "|")
+          + " | ".join(f"c q={q}" for q in STICK_AT) + " | "
+          + " | ".join(f"c fit q={q}" for q in STICK_AT) + " | "
+          + " | ".join(f"slope q={q}" for q in STICK_AT) + " | s |")
+    print("|---" * (5 + 2 * len(DELTA_AT) + 3 * len(STICK_AT)) + "|")
     with tempfile.TemporaryDirectory() as directory:
         for size in args.sizes:
             start = time.perf_counter()
@@ -63,18 +68,23 @@ def main():
             stuck = pb.run(body, pb.pull_scene(pb.STUCK_MU, pb.PULL_TIME, dt))
             pulled = pb.run(body, pb.pull_scene(pb.MU, pb.PULL_TIME, dt))
             errors = pb.delta_errors(pulled, stuck, DELTA_AT)
-            stick = []
+            stick, fit, slopes = [], [], []
             for q in STICK_AT:
                 T = pb.time_at(pulled, q * pb.MU * pb.LOAD)
                 to_q = pb.run(body, pb.pull_scene(pb.MU, T, dt))
-                Q = float(to_q.series.F_d[-1])
-                stick.append(pb.stick_radius(to_q) / cm.stick_radius(Q, pb.MU, pb.LOAD, a) - 1)
+                c = cm.stick_radius(float(to_q.series.F_d[-1]), pb.MU, pb.LOAD, a)
+                c_fit, slope = pb.stick_radius_fit(to_q)
+                stick.append(pb.stick_radius(to_q) / c - 1)
+                fit.append(c_fit / c - 1)
+                slopes.append(slope)
             ratio = pb.stuck_compliance(stuck) / pb.no_slip_compliance()
             print(f"| {size * 1e6:.0f} um | {pulled.info['nodes']} | "
                   f"{pulled.info['nodes_in_contact']} | {ratio:.3f} | "
                   + " | ".join(f"{errors[q][0]:+.1%}" for q in DELTA_AT) + " | "
                   + " | ".join(f"{errors[q][1]:+.1%}" for q in DELTA_AT) + " | "
-                  + " | ".join(f"{e:+.1%}" for e in stick)
+                  + " | ".join(f"{e:+.1%}" for e in stick) + " | "
+                  + " | ".join(f"{e:+.1%}" for e in fit) + " | "
+                  + " | ".join(f"{s:.2f}" for s in slopes)
                   + f" | {time.perf_counter() - start:.0f} |", flush=True)
 
 

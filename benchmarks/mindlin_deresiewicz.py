@@ -5,15 +5,24 @@ cattaneo_mindlin.py (E = 5 GPa, R = 10 mm, P = 100 N, mu = 0.5) with Q cycled be
 docs/validation.md), as the pole's mesh refines.
 
 tests/pulled_ball.py (cycle_scene, cycle_dissipation) sets the run up: the ball held at
-rest, the base moving as u0 sin(2 pi 200 Hz t), 2.25 cycles; Q* and the loop's area W
-over the second cycle; the closed form at the measured Q*.
+rest, the base moving as u0 sin(2 pi f t), f = 500 Hz, 2.25 cycles; Q* and the loop's
+area W over the last cycle; the closed form at the measured Q*.
 
     PYTHONPATH=. python benchmarks/mindlin_deresiewicz.py [--sizes 1.5e-4 1e-4] [--q 0.3 0.6 0.9]
+        [--k_t 1e9] [--frequency 500] [--cycles 2.25]
+
+(--k_t: the Dahl law's tangential stiffness for the whole patch, N/m, default
+pulled_ball.K_T, the column "k_t".) The column "Dahl's own" is what the law's
+pre-sliding adds in Mindlin's stick circle at the measured Q*, estimated on the closed
+forms (tests/pulled_ball.py presliding_loop), against eq 7.59. --frequency and --cycles
+change the base's cycle (pulled_ball.CYCLE_FREQUENCY, CYCLES: the loop is read over the
+last cycle).
 
 Prints a Markdown table (docs/validation.md, "Curved contacts").
 """
 
 import argparse
+import itertools
 import os
 import sys
 import tempfile
@@ -31,21 +40,28 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=float, nargs="+", default=[1.5e-4, 1e-4])
     parser.add_argument("--q", type=float, nargs="+", default=[0.3, 0.6, 0.9])
+    parser.add_argument("--k_t", type=float, nargs="+", default=[pb.K_T])
+    parser.add_argument("--frequency", type=float, default=pb.CYCLE_FREQUENCY)
+    parser.add_argument("--cycles", type=float, default=pb.CYCLES)
     args = parser.parse_args()
     a = pb.hertz_radius()
-    print("| pole mesh | nodes | Q* / mu P | W FE (uJ) | W eq 7.59 (uJ) | error | s |")
-    print("|---|---|---|---|---|---|---|")
+    print("| pole mesh | nodes | k_t (N/m) | Q* / mu P | W FE (uJ) | W eq 7.59 (uJ) | error | "
+          "Dahl's own | s |")
+    print("|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as directory:
         for size in args.sizes:
             body = pb.ball(directory, size)
-            for q in args.q:
+            for k_t, q in itertools.product(args.k_t, args.q):
                 start = time.perf_counter()
-                result = pb.run(body, pb.cycle_scene(q, pb.stable_step(size)))
-                Q, W = pb.cycle_dissipation(result)
+                scene = pb.cycle_scene(q, pb.stable_step(size), args.frequency, args.cycles,
+                                       **{"contact.k_t": k_t})
+                result = pb.run(body, scene)
+                Q, W = pb.cycle_dissipation(result, args.frequency)
                 closed = cm.mindlin_deresiewicz_dissipation(Q, pb.MU, pb.LOAD, a, pb.E, pb.NU)
-                print(f"| {size * 1e6:.0f} um | {result.info['nodes']} | "
+                print(f"| {size * 1e6:.0f} um | {result.info['nodes']} | {k_t:.0e} | "
                       f"{Q / (pb.MU * pb.LOAD):.3f} | "
                       f"{W * 1e6:.2f} | {closed * 1e6:.2f} | {W / closed - 1:+.1%} | "
+                      f"{pb.presliding_loop(Q, k_t) / closed:.1%} | "
                       f"{time.perf_counter() - start:.0f} |", flush=True)
 
 

@@ -63,20 +63,26 @@ def test_the_held_ball_s_displacement_is_cattaneo_mindlin_s(pulls):
 
 @pytest.mark.slow
 def test_the_held_ball_s_stick_radius_is_cattaneo_mindlin_s(pulls):
-    """The stick radius at the pull's end (Q = 0.94 mu P, c = 0.4 a) and at Q = 0.6 mu P
-    (c = 0.74 a) within half a node spacing (75 um, 0.15 a) of a (1 - q)^(1/3): the rule
-    (pulled_ball.stick_radius) reads the front between two nodes, to half their spacing.
-    Measured 24 um at the end, +6.3% and -1.1% of c at q = 0.5 and 0.8
-    (benchmarks/cattaneo_mindlin.py)."""
+    """The stick radius at the pull's end (Q = 0.94 mu P, c = 0.4 a) and at Q = 0.5 mu P
+    (c = 0.79 a) against a (1 - q)^(1/3): read from the nodes' states
+    (pulled_ball.stick_radius) within half a node spacing (75 um, 0.15 a), the rule's
+    resolution (measured 24 um at the end); and at Q = 0.5 mu P from the stuck nodes'
+    tractions (pulled_ball.stick_radius_fit) within Cattaneo-Mindlin's 5% (measured -3.2%
+    on this mesh, benchmarks/cattaneo_mindlin.py), the fitted field's slope within 30% of
+    Mindlin's -1 (measured -1.19)."""
     body, _, pulled = pulls
     a = pb.hertz_radius()
-    Q = pb.MU * pb.LOAD * 0.6
+    Q = pb.MU * pb.LOAD * 0.5
     to_q = pb.run(body, pb.pull_scene(pb.MU, pb.time_at(pulled, Q), pb.stable_step(POLE)))
     for run in (pulled, to_q):
         Q_end = float(run.series.F_d[-1])
         c = cm.stick_radius(Q_end, pb.MU, pb.LOAD, a)
         assert abs(pb.stick_radius(run) - c) < 0.5 * POLE, (Q_end, pb.stick_radius(run), c)
         assert 0.0 < pb.stick_radius(run) < a
+    c = cm.stick_radius(float(to_q.series.F_d[-1]), pb.MU, pb.LOAD, a)
+    c_fit, slope = pb.stick_radius_fit(to_q)
+    assert c_fit == pytest.approx(c, rel=0.05)
+    assert -1.3 < slope < -0.7
 
 
 @pytest.mark.slow
@@ -98,12 +104,14 @@ def test_the_roller_s_strip_at_mid_length_is_hertz_s():
 @pytest.mark.slow
 def test_the_held_ball_s_cycle_dissipates_mindlin_deresiewicz_s_energy(body):
     """The loop's area over a steady cycle at Q* ~ 0.6 mu P against Johnson's eq 7.59 at
-    the measured Q* (pulled_ball.cycle_scene, cycle_dissipation). The fast mesh does NOT
-    meet the closed form's 10%: it dissipates 35% more at Q* = 0.58 mu P (71% more at
-    0.29), the 100 um mesh 4.9% more (benchmarks/mindlin_deresiewicz.py,
-    docs/validation.md). The bounds hold that
+    the measured Q* (pulled_ball.cycle_scene, cycle_dissipation). This fast mesh does NOT
+    meet the closed form's 10%: it dissipates 31% more at Q* = 0.59 mu P; the 100 um mesh
+    does, +5.7%, +4.9% and +2.9% at 0.29, 0.58 and 0.88, at 3 to 7 minutes a run here,
+    converged at 0.58 (70 um: +8.1%) but not at 0.29 (70 um: +20.3%)
+    (benchmarks/mindlin_deresiewicz.py, docs/validation.md). The bounds hold this mesh's
     measured state, the loop above eq 7.59 and within 50% of it, so that a change to the
-    contact that moves the loop shows; tighten them as the loop converges."""
+    contact that moves the loop shows; a loop below eq 7.59 would be a contact that
+    sticks where Mindlin's slips."""
     result = pb.run(body, pb.cycle_scene(0.6, pb.stable_step(POLE)))
     Q, W = pb.cycle_dissipation(result)
     assert 0.5 < Q / (pb.MU * pb.LOAD) < 1.0      # the cycle's amplitude as aimed
