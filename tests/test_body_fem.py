@@ -106,6 +106,12 @@ def test_the_curvature_of_a_sphere_cap_is_its_radius():
     gap = RADIUS - np.sqrt(RADIUS ** 2 - (xy ** 2).sum(axis=1))
     assert curvature_radius(xy, gap) == pytest.approx(RADIUS, rel=1e-9)
     assert curvature_radius(xy, np.zeros(len(xy))) == math.inf
+    # a flat punch: its middle touches at rest, its rim (rounded) does not; a roller's
+    # line of touching nodes keeps its fitted radius
+    rim = (xy ** 2).sum(axis=1) > (1.5e-3) ** 2
+    assert curvature_radius(xy, np.where(rim, 1e-5, 0.0)) == math.inf
+    line = np.abs(xy[:, 0]) > 0.0
+    assert math.isfinite(curvature_radius(xy, np.where(line, xy[:, 0] ** 2 / (2 * RADIUS), 0.0)))
 
 
 def test_a_body_without_what_the_scene_asks_is_refused(ball):
