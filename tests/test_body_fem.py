@@ -317,7 +317,8 @@ def test_a_body_that_loses_all_contact_stops_with_one_line(scene_name, tmp_path,
 
 @pytest.mark.parametrize("integrator", ["implicit", "reduced"])
 def test_the_ball_rests_under_the_implicit_integrators(integrator):
-    """The coarse ball (3 of its 55 candidates in contact at the preload) at rest on the
+    """The coarse ball (held, scenes/ball.toml: 1 of its 55 candidates in contact at the
+    preload; 3 unheld) at rest on the
     base (no vibration), dragged for 60 us: its contact holds and it barely moves. The
     candidates off the patch once carried a negative stiffness in the contact iteration
     (contact_solve._contact_g) that ran the ball away, e-folding in ~2 us whatever the
