@@ -1,15 +1,17 @@
 """The FE ball and pin against the lumped model on the paper's Fig 7 vibration
 (docs/validation.md, "A ball and a pin against the lumped model").
 
-The lumped body is rigid on one contact spring, the law's k_t (contact.k_t, 80e6 N/m
-in scenes/ball.toml and scenes/pin.toml). The FE body rests on its preload's patch,
-each node on its share k_t a_i / A_0 of that spring (fe_model.patch_share), behind
-its own elastic compliance between its mass and the patch, which the lumped body
-lacks. What the FE contact amounts to, as the lumped body's one spring, is its
-tangential stiffness under the load the vibration puts on it: a uniform inertial
-load Q = m a along X on the preloaded body with its contact stuck (each patch node
-on its k_t a_i / A_0 in X and Y, on its penalty in Z), over the centre of mass's
-displacement:
+Both shipped scenes hold their body in a tribometer's holder (drive.attach =
+"load-group", drive.holder = "translating": the load and the drive on the top, which
+translates without turning). The lumped body is rigid on one contact spring, the law's
+k_t (contact.k_t, 80e6 N/m in scenes/ball.toml and scenes/pin.toml). The FE body rests
+on its preload's patch, each node on its share k_t a_i / A_0 of that spring
+(fe_model.patch_share), behind its own elastic compliance between its mass and the
+patch, which the lumped body lacks. What the FE contact amounts to, as the lumped
+body's one spring, is its tangential stiffness under the load the vibration puts on
+it: a uniform inertial load Q = m a along X on the preloaded, held body with its
+contact stuck (each patch node on its k_t a_i / A_0 in X and Y, on its penalty in Z),
+over the centre of mass's displacement:
 
     k_FE = Q / delta_cm
 
@@ -17,21 +19,27 @@ and of the body alone (the patch's nodes held: the law's springs made rigid),
 k_body, so that 1 / k_FE = 1 / k_t + 1 / k_body to the coupling of the two. For the
 ball, k_body against Mindlin's no-slip stiffness of an elastic sphere on a rigid
 flat, 8 G a / (2 - nu) (Johnson, Contact Mechanics, eq 7.41 with one body rigid),
-a the Hertz radius (3 F_N R / 4 E*)^(1/3) (eq 4.22): the coarse mesh holds the
-patch on 3 nodes, so its k_body is a mesh's, not Mindlin's.
+a the Hertz radius (3 F_N R / 4 E*)^(1/3) (eq 4.22).
 
 The lumped model (analytic, coupled stepper, the scene's time.dt and T) is run with
-k_t and with k_FE; with --fe, the FE model too (fem.integrator, time.method auto:
-the steady cycle by shooting, stepped through T where it finds none), its failure
-reported as such.
+k_t and with k_FE. With --fe, the FE model too (time.method auto: the steady cycle by
+shooting, stepped through T where it finds none): explicit at EXPLICIT_FRACTION of its
+stable step, which resolves the contact's fastest motion (the reference); the
+scenes' own reduced model at their time.dt; and that on the same body RIGID_E times
+stiffer (body.E; the penalty, which scales with E, too), which takes its compliance
+out: what is left between that and the lumped k_t answer is the FE model's own (its
+contact split over nodes, its holder, its reduction, its step). With --integrators,
+one row a body of every integrator's answer and wall time (measured on the machine it
+runs on), the explicit one at EXPLICIT_FRACTION of its stable step (the scenes' 1e-6 s
+is refused).
 
-    .venv/bin/python benchmarks/fe_body_vs_lumped.py [--mesh coarse] [--fe] [--integrator implicit]
+    .venv/bin/python benchmarks/fe_body_vs_lumped.py [--mesh coarse] [--fe]
+    .venv/bin/python benchmarks/fe_body_vs_lumped.py --integrators
 
-prints a markdown table.
+prints markdown tables.
 """
 
 import argparse
-import math
 import time
 
 import numpy as np
@@ -47,6 +55,9 @@ from vibrofric.fem.simulate import answer_ratio
 
 BODIES = ("ball", "pin")
 RIGID = 1e6   # k_t times this holds the patch's nodes: the body's compliance alone
+RIGID_E = 100.0   # body.E times this: the body's compliance 100 times below the law's
+INTEGRATORS = ("explicit", "implicit", "reduced", "auto")
+EXPLICIT_FRACTION = 0.9   # of the model's stable step: the explicit integrator's time.dt
 
 
 def contact_stiffness(model, k_t: float) -> float:
@@ -79,28 +90,26 @@ def lumped(scene, k_t: float) -> float:
     return summary["F_dv_over_F_d0"]
 
 
-def fe_answer(scene, integrator: str) -> str:
+def fe_answer(scene, integrator: str, **values) -> str:
+    """The FE answer as a table cell: F_dv/F_d0 (how: the orbit or stepped, wall time), or
+    what stopped it."""
     start = time.perf_counter()
     try:
         result = run_fe(scene.with_values({"fem.integrator": integrator,
                                            "time.error_estimate": False,
-                                           "fem.output_every": 0}))
+                                           "fem.output_every": 0, **values}))
     except (NumericalError, Refusal) as error:
         return f"fails ({str(error)[:90]}...)"
-    how = result.info["periodic"]["method"] if result.info.get("periodic") else "stepped"
+    periodic = result.info.get("periodic") or {}
+    how = "orbit" if periodic.get("converged") else "stepped"
     return f"{answer_ratio(result, scene):.4f} ({how}, {time.perf_counter() - start:.0f} s)"
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--mesh", default="coarse")
-    parser.add_argument("--fe", action="store_true", help="run the FE model too")
-    parser.add_argument("--integrator", default="implicit")
-    args = parser.parse_args()
-
+def comparison(args) -> None:
     print("| body | patch nodes | k_t (law) | k_body (FE) | Mindlin 8Ga/(2-nu) | k_FE | "
-          "lumped, k_t | lumped, k_FE | FE |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "lumped, k_t | lumped, k_FE | FE, explicit | FE, reduced | "
+          f"FE, reduced, E x {RIGID_E:g} |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name in BODIES:
         scene = load_scene(name, **{"fem.mesh": args.mesh})
         model = fe_model.build_model(scene, None)
@@ -108,10 +117,45 @@ def main() -> None:
         k_fe = contact_stiffness(model, k_t)
         k_body = contact_stiffness(model, RIGID * k_t)
         mindlin = f"{mindlin_stiffness(scene):.3g}" if scene.body.shape == "ball" else "-"
-        fe = fe_answer(scene, args.integrator) if args.fe else "-"
+        explicit = reduced = rigid = "-"
+        if args.fe:
+            explicit = fe_answer(scene, "explicit", **{"time.dt": explicit_step(model)})
+            reduced = fe_answer(scene, "reduced")
+            rigid = fe_answer(scene, "reduced", **{"body.E": RIGID_E * scene.body.E})
         print(f"| {name} | {int(model.in_contact0.sum())} of {model.contact_nodes.size} | "
               f"{k_t:.3g} | {k_body:.3g} | {mindlin} | {k_fe:.3g} | {lumped(scene, k_t):.4f} | "
-              f"{lumped(scene, k_fe):.4f} | {fe} |")
+              f"{lumped(scene, k_fe):.4f} | {explicit} | {reduced} | {rigid} |")
+
+
+def explicit_step(model) -> float:
+    """EXPLICIT_FRACTION of the model's stable step, to 2 digits."""
+    return float(f"{EXPLICIT_FRACTION * model.dt_stable:.2g}")
+
+
+def integrators(args) -> None:
+    print("| body | " + " | ".join(INTEGRATORS) + " |")
+    print("|---|" + "---|" * len(INTEGRATORS))
+    for name in BODIES:
+        scene = load_scene(name, **{"fem.mesh": args.mesh})
+        explicit_dt = explicit_step(fe_model.build_model(scene, None))
+        cells = [fe_answer(scene, integrator,
+                           **({"time.dt": explicit_dt} if integrator == "explicit" else {}))
+                 for integrator in INTEGRATORS]
+        cells[0] += f" at dt = {explicit_dt:g} s"
+        print(f"| {name} | " + " | ".join(cells) + " |")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--mesh", default="coarse")
+    parser.add_argument("--fe", action="store_true", help="run the FE model too")
+    parser.add_argument("--integrators", action="store_true",
+                        help="instead: every integrator on each body")
+    args = parser.parse_args()
+    if args.integrators:
+        integrators(args)
+    else:
+        comparison(args)
 
 
 if __name__ == "__main__":

@@ -106,6 +106,12 @@ def test_the_curvature_of_a_sphere_cap_is_its_radius():
     gap = RADIUS - np.sqrt(RADIUS ** 2 - (xy ** 2).sum(axis=1))
     assert curvature_radius(xy, gap) == pytest.approx(RADIUS, rel=1e-9)
     assert curvature_radius(xy, np.zeros(len(xy))) == math.inf
+    # a flat punch: its middle touches at rest, its rim (rounded) does not; a roller's
+    # line of touching nodes keeps its fitted radius
+    rim = (xy ** 2).sum(axis=1) > (1.5e-3) ** 2
+    assert curvature_radius(xy, np.where(rim, 1e-5, 0.0)) == math.inf
+    line = np.abs(xy[:, 0]) > 0.0
+    assert math.isfinite(curvature_radius(xy, np.where(line, xy[:, 0] ** 2 / (2 * RADIUS), 0.0)))
 
 
 def test_a_body_without_what_the_scene_asks_is_refused(ball):
@@ -311,7 +317,8 @@ def test_a_body_that_loses_all_contact_stops_with_one_line(scene_name, tmp_path,
 
 @pytest.mark.parametrize("integrator", ["implicit", "reduced"])
 def test_the_ball_rests_under_the_implicit_integrators(integrator):
-    """The coarse ball (3 of its 55 candidates in contact at the preload) at rest on the
+    """The coarse ball (held, scenes/ball.toml: 1 of its 55 candidates in contact at the
+    preload; 3 unheld) at rest on the
     base (no vibration), dragged for 60 us: its contact holds and it barely moves. The
     candidates off the patch once carried a negative stiffness in the contact iteration
     (contact_solve._contact_g) that ran the ball away, e-folding in ~2 us whatever the

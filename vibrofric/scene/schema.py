@@ -131,9 +131,14 @@ CONTACT_KEYS = ("law", "F_N", "eta_y", "k_n", "zeta_n")     # the model's keys i
 class Drive:
     k_d: float = 96068.0                   # N/m, the drive spring's stiffness
     v_d: float = 5e-4                      # m/s, the drive's speed
-    attach: str = "contact-plane"          # "contact-plane" | "front-face" | "drive-group" (FE only:
-                                           # the facet group "contact", "front" or "drive" of the
-                                           # body's mesh; fem/model/drive.py)
+    attach: str = "contact-plane"          # "contact-plane" | "front-face" | "drive-group" |
+                                           # "load-group" (FE only: the facet group "contact",
+                                           # "front", "drive" or "load" of the body's mesh;
+                                           # fem/model/drive.py)
+    holder: str = "none"                   # "none" | "translating" (FE only): the attachment's
+                                           # group moves as one rigid translation, without
+                                           # turning, as in a tribometer's holder; not with
+                                           # "contact-plane" (fem/model/holder.py)
     mode: str = "spring"                   # "spring" | "velocity"
 
     @property
@@ -249,7 +254,8 @@ SECTIONS = {"body": Body, "contact": Contact, "drive": Drive,
 
 CHOICES = {
     "body.shape": tuple(SHAPE_KEYS),
-    "drive.attach": ("contact-plane", "front-face", "drive-group"),
+    "drive.attach": ("contact-plane", "front-face", "drive-group", "load-group"),
+    "drive.holder": ("none", "translating"),
     "drive.mode": ("spring", "velocity"),
     "fem.integrator": ("explicit", "implicit", "reduced", "auto"),
     "fem.normal_force": ("nodal", "nominal"),

@@ -143,6 +143,10 @@ def validate(scene: Scene) -> None:
     if scene.fem.penalty is not None and scene.fem.contact_stiffness is not None:
         raise SceneError("fem.contact_stiffness", "give the penalty once: fem.penalty (N/m, the "
                          "whole contact) or fem.contact_stiffness (Pa/m, per unit area)")
+    if scene.drive.holder != "none" and scene.drive.attach == "contact-plane":
+        raise SceneError("drive.holder", f"{scene.drive.holder!r} holds the drive's attachment "
+                         "group, and drive.attach = \"contact-plane\" attaches to the contact "
+                         "itself: use \"load-group\", \"drive-group\" or \"front-face\"")
     if not 0.0 <= scene.fem.rho_infinity <= 1.0:
         raise SceneError("fem.rho_infinity", f"must lie in [0, 1], got {scene.fem.rho_infinity}")
     if scene.fem.cutoff < 0:

@@ -137,6 +137,22 @@ def default_contact_stiffness(E: float, nu: float, height: float, F_N: float,
     return max(flat, HERTZ_PENALTY * e_star / a)
 
 
+# The candidates touching at rest span an area (a flat face) where their rms width
+# across their thinnest plan direction is above this fraction of the candidates' plan
+# extent: far above gmsh's rounding of a line of nodes (~1e-16 of it), far below any
+# flat end's width.
+FLAT_WIDTH = 1e-6
+
+
+def touching_width(xy: np.ndarray) -> float:
+    """The rms width of the plan positions ``xy`` (m, 2) across their thinnest direction:
+    0 for one point or a line of them."""
+    if xy.shape[0] < 3:
+        return 0.0
+    centred = xy - xy.mean(axis=0)
+    return float(np.linalg.svd(centred, compute_uv=False)[-1] / math.sqrt(xy.shape[0]))
+
+
 def curvature_radius(xy: np.ndarray, initial_gap: np.ndarray) -> float:
     """R of the sphere r^2 + g0^2 = 2 R g0 closest (least squares, weighted by g0) to the
     candidates' initial gaps ``initial_gap`` (n,) at plan positions ``xy`` (n, 2), r
@@ -147,9 +163,16 @@ def curvature_radius(xy: np.ndarray, initial_gap: np.ndarray) -> float:
     inf where all touch (a flat face). A sphere's cap gives its radius exactly; a
     paraboloid g0 = r^2 / 2 R a little more (by g0 / 2); a cylinder on its side, whose
     gap grows across it only, more (its axial offsets count as r): an estimate of the
-    patch's scale, which is all default_contact_stiffness needs of it."""
+    patch's scale, which is all default_contact_stiffness needs of it.
+
+    Also inf where those touching at rest span an area in plan (FLAT_WIDTH), not a
+    point (a ball) or a line (a roller): a flat punch, such as a pin on its end, whose
+    patch is its flat face at any load, the rounding of its edge aside. Hertz's radius a
+    does not size that patch, and the Hertz rule's 100 E* / a (a from the edge's fitted
+    R) would make its penalty some 1000 times the flat face's 10 E / H, and the explicit
+    step 7 times shorter, for no accuracy: the flat face's default is the block's."""
     touching = initial_gap <= 0.0
-    if touching.all():
+    if touching.all() or touching_width(xy[touching]) > FLAT_WIDTH * float(np.ptp(xy, axis=0).max()):
         return math.inf
     r2 = ((xy - xy[touching].mean(axis=0)) ** 2).sum(axis=1)
     g = initial_gap

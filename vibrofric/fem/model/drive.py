@@ -30,6 +30,11 @@ front-face
     non-uniform, which the lumped model lacks.
 drive-group
     the mesh's own group "drive", wherever its author put it.
+load-group
+    the group "load", where the normal load presses: a tribometer's holder, which
+    presses the body down and pulls it along at the same place (the built-in
+    shapes' top; with drive.holder = "translating" it moves without turning,
+    holder.py).
 """
 
 import numpy as np
@@ -38,7 +43,8 @@ from numba import njit
 from ...core.errors import DriveHasNoAttachment
 from ...friction_law.contract import FASTMATH
 
-ATTACH_GROUPS = {"contact-plane": "contact", "front-face": "front", "drive-group": "drive"}
+ATTACH_GROUPS = {"contact-plane": "contact", "front-face": "front", "drive-group": "drive",
+                 "load-group": "load"}
 
 # A prescribed drive reaches v_d in this time, at constant acceleration. Started
 # at v_d in one step, the block is given v_d / dt: at 1e-6 s a force of 250 N on

@@ -16,7 +16,8 @@
    per unit area), and the normal force each node's law sees under
    fem.normal_force (contact.nominal_normal);
 4. the drive's attachment nodes and weights (drive.py), a front-face drive that
-   would tip the body refused (check_tipping);
+   would tip the body refused (check_tipping); with drive.holder = "translating",
+   the attachment's ties to one rigid translation joined to K (holder.py);
 5. the static preload u0 and its contact patch (preload.py), read from the model
    cache after the first run on the same inputs;
 6. the highest frequency, the damping and the stable step (stability.py).
@@ -41,6 +42,7 @@ block's rigid contact modes (rocking and bounce on the penalty springs, 10-25
 kHz for 0.5 kg) without eating the stable step: they get xi ~ 0.003.
 """
 
+import dataclasses
 import math
 from contextlib import contextmanager
 from dataclasses import dataclass, fields
@@ -54,6 +56,7 @@ from . import model_cache
 from .assembly import Discretization
 from .contact import curvature_radius, default_contact_stiffness, nominal_normal
 from .drive import ATTACH_GROUPS, attachment, drive_stiffness_action
+from .holder import held
 from .loads import normal_load, load_pressure
 from .linalg import dof_points, nested_dissection, on_grid
 from .preload import static_preload
@@ -138,9 +141,10 @@ def check_tipping(scene, disc: Discretization, contact_nodes, contact_area) -> N
     tips, and the back of the contact lifts off the base, once max(mu, mu_s) h >=
     x_edge - x_c. The block: h = L_z / 2, x_edge - x_c = L_x / 2, so once
     max(mu, mu_s) L_z >= L_x. The other attachments act at the contact (no moment) or
-    where the mesh's own "drive" group is, which the user placed.
+    where the mesh's own "drive" group is, which the user placed; a holder (drive.holder)
+    does not let the body turn.
     """
-    if scene.drive.attach != "front-face":
+    if scene.drive.attach != "front-face" or scene.drive.holder != "none":
         return
     front = disc.face_area[ATTACH_GROUPS["front-face"]]
     front_nodes = np.flatnonzero(front > 0.0)
@@ -188,7 +192,7 @@ def _built_from(scene) -> str:
     """What build_model reads of a scene, as a key: equal keys build equal models."""
     bounds = scene.law_bounds
     return repr((scene.body, scene.fem.mesh, scene.fem.penalty, scene.fem.contact_stiffness,
-                 scene.fem.damping, scene.fem.normal_force, scene.drive.attach,
+                 scene.fem.damping, scene.fem.normal_force, scene.drive.attach, scene.drive.holder,
                  scene.drive.prescribed, scene.drive.k_d, scene.contact.F_N, scene.mu_max,
                  bounds.stiffness, bounds.max_stiffness))
 
@@ -305,6 +309,9 @@ def _built(scene, comm) -> FEModel:
                                             radius)
 
     attach_nodes, attach_weights = attachment(scene, disc.face_area, body_mesh.description)
+    if scene.drive.holder == "translating":
+        disc = dataclasses.replace(disc, stiffness=held(disc.stiffness, attach_nodes,
+                                                         attach_weights))
     elimination_order = (nested_dissection(dof_points(disc.coordinates))
                          if on_grid(disc.coordinates) else None)
 
