@@ -210,11 +210,15 @@ def test_the_fe_model_refuses_what_it_does_not_read(load_scene, keys, key):
 
 @pytest.mark.slow   # four FE runs of 160 000 steps: 14 s measured
 def test_the_fe_explicit_integrator_steps_a_table(load_scene, tmp_path):
-    """On the coarse block, stepped 20 ms past t_on: a harmonic of amplitude 0 changes no
-    bit of the time series; the paper's sine as a measured motion, and as k_v = 3 plus a
-    first harmonic of its amplitude, give the sine's drive force to 1e-11 of its largest
-    value (the table's sine against the loop's rotated phase, ~1e-16 of u0 a step, as in
-    the lumped model: 4e-13 measured)."""
+    """On the coarse block, stepped 20 ms past t_on: a harmonic of amplitude 0, the
+    paper's sine as a measured motion, and k_v = 3 plus a first harmonic of its
+    amplitude each give the sine's drive force to 1e-11 of its largest value (the
+    table's sine against the loop's rotated phase, ~1e-16 of u0 a step, as in the
+    lumped model: 4e-13 measured). The zero harmonic adds exact zeros, but it runs the
+    loop compiled with a table, whose rounding numba's compile variants may set apart
+    from the plain loop's (2.6e-13 measured in one fresh clone, 0 in another;
+    benchmarks/same_results.py): that the shipped scenes keep their bits is
+    same_results' check, not this one's."""
     from vibrofric.fem import run_fe
 
     settings = {"time__method": "transient", "time__T": 0.16, "time__average_cycles": 10,
@@ -229,9 +233,8 @@ def test_the_fe_explicit_integrator_steps_a_table(load_scene, tmp_path):
         check_fe_scene(s)
     reference = run_fe(paper).series.F_d
     zero, measured, added = (run_fe(s).series.F_d for s in scenes)
-    assert np.array_equal(zero, reference)
     scale = np.max(np.abs(reference))
-    for F_d in (measured, added):
+    for F_d in (zero, measured, added):
         assert np.max(np.abs(F_d - reference)) <= 1e-11 * scale
 
 
