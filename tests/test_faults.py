@@ -215,7 +215,12 @@ def test_cli_kill_harness_force_replacement(tmp_path):
         time.sleep(rng.uniform(0.3, 3.0))
         child.send_signal(rng.choice([signal.SIGINT, signal.SIGTERM, signal.SIGKILL]))
         child.communicate(timeout=60)
-        assert child.returncode in (0, 130, 143, -signal.SIGKILL)
+        # 130 / 143 interrupted, 0 finished first; killed by the signal itself (-2, -15)
+        # where it lands after the command's end, while Python shuts down with its
+        # handlers reset (seen once, on the PyPI stack): the results are whole in every case,
+        # which is what this checks
+        assert child.returncode in (0, 130, 143, -signal.SIGINT, -signal.SIGTERM,
+                                    -signal.SIGKILL)
         whole(tmp_path / "R")
     done = vibrofric(["analytic", SCENE, *SHORT, "--out", "R", "--force"], tmp_path)
     assert done.returncode == 0, done.stderr
