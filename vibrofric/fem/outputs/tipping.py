@@ -79,7 +79,8 @@ def message(t: float, nodes_closed: int, patch_nodes: int) -> str:
             f"(for a whole vibration period its load rested on the outer "
             f"{EDGE_FRACTION:.0%} of its patch alone, {nodes_closed} of the patch's "
             f"{patch_nodes} nodes closed); attach the drive nearer the contact "
-            "(drive.attach), lower the body's centre of mass or hold its top")
+            "(drive.attach), lower the body's centre of mass or hold it "
+            "(drive.holder = \"translating\")")
 
 
 class TipWatch:
