@@ -93,3 +93,31 @@ def test_a_held_ball_does_not_turn_under_a_pull_at_its_top(holder):
     k_hold = holders.hold_stiffness(ball_at_rest(unheld).stiffness, nodes)
     tilting = k_hold * w @ (xyz[:, 0] - w @ xyz[:, 0]) ** 2
     assert 0.0 < tilt <= 1.1 * height / tilting
+
+
+def test_the_held_bodys_turn_is_no_gauge_of_its_steady_cycle():
+    """The steady-cycle solver takes out the rigid motions nothing restrains (the turn
+    about Z, the translation in Y: fem/integrators/cycle_map.py). The holder's ties resist
+    the turn: a rigid turn of the held ball stores energy in its stiffness (the ties'
+    k_hold sum w_a r_a^2 per rad^2) and none in the unheld one's (rounding: 2e-16 of it
+    measured, 1e-9 allowed), so the solver keeps the turn in the state of a held body;
+    taking it out had run the held pin to a spurious orbit (F_dv/F_d0 0.063 against
+    0.777)."""
+    from vibrofric.fem.integrators.cycle_map import unrestrained_motions
+
+    scene = scenes.load(f"{SCENES}/ball.toml")
+    assert scene.drive.holder == "translating"
+    assert unrestrained_motions(scene) == ("y",)
+    unheld = scene.with_values({"drive.holder": "none"})
+    assert unrestrained_motions(unheld) == ("y", "turn")
+    energies = []
+    for s in (scene, unheld):
+        model = ball_at_rest(s)
+        xyz = model.disc.coordinates
+        centre = model.attach_weights @ xyz[model.attach_nodes]
+        turn = np.zeros_like(xyz)
+        turn[:, 0], turn[:, 1] = -(xyz[:, 1] - centre[1]), xyz[:, 0] - centre[0]
+        turn = turn.ravel()
+        energies.append(turn @ (model.stiffness @ turn))
+    held, free = energies
+    assert held > 0.0 and abs(free) <= 1e-9 * held

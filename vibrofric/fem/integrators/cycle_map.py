@@ -20,7 +20,9 @@ still an orbit, the cycle map's Jacobian has a multiplier of exactly 1 there and
 Newton's matrix is singular. They are taken out: after each cycle, z loses its
 components along their images (an orthogonal projection in the scaled
 variables), so that the map acts on the restrained state alone (with a prescribed
-drive, which holds the attachment in Y too, only the turn).
+drive, which holds the attachment in Y too, only the turn). A holder
+(drive.holder = "translating", fem/model/holder.py) restrains the turn: its ties
+resist any turn of the held group, so the turn is no gauge there and stays in z.
 """
 
 import math
@@ -52,6 +54,15 @@ def first_cycle_step(scene, steps: int) -> int:
     return i_on + steps
 
 
+def unrestrained_motions(scene) -> tuple:
+    """The rigid motions nothing restrains (the gauge, module docstring): the translation
+    in Y unless a prescribed drive holds it, and the turn about Z unless a holder does."""
+    motions = () if scene.drive.prescribed else ("y",)
+    if scene.drive.holder != "translating":
+        motions += ("turn",)
+    return motions
+
+
 class FECycleMap:
     """Phi: one base cycle of the prepared integrator ``run`` (registry.py) on
     ``model``, for the scene it was prepared with (whose time.dt puts a whole number
@@ -75,8 +86,7 @@ class FECycleMap:
         self.size = sum(array.size for _, array in self.parts)
         self.preload = self._pack()       # the arrays as start() made them: the static preload
         self.translation = self._image(self._motion("x"))
-        restrained_y = scene.drive.prescribed
-        self.unrestrained = ("turn",) if restrained_y else ("y", "turn")
+        self.unrestrained = unrestrained_motions(scene)
         self.neutral = np.array([self._image(self._motion(m)) for m in self.unrestrained])
         self.scale = np.ones(self.size)
         self.scale = self._scales()
@@ -228,6 +238,8 @@ class FECycleMap:
 
     def gauge(self, x: np.ndarray) -> np.ndarray:
         """x (scaled) less its components along the neutral motions' images."""
+        if not self.unrestrained:      # a held body under a prescribed drive: no gauge
+            return x
         if self._neutral_scaled is None:
             G = self.neutral / self.scale
             Q, _ = np.linalg.qr(G.T)
