@@ -10,6 +10,7 @@ import pytest
 
 pytest.importorskip("dolfinx")
 
+from conftest import model_at_rest  # noqa: E402
 from hemisphere import ball_model, hemisphere, hertz, hertz_fit  # noqa: E402
 
 from vibrofric import scene as scenes  # noqa: E402
@@ -26,14 +27,7 @@ RADIUS, LOAD = 0.01, 100.0
 POLE, FINE = 6e-5, 4e-4
 
 
-@pytest.fixture(scope="module", autouse=True)
-def _own_model_cache(tmp_path_factory):
-    """The balls' models in a cache of this module's: they would take the place of a
-    user's blocks in the shared one (model_cache.KEPT_ENTRIES)."""
-    patch = pytest.MonkeyPatch()
-    patch.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
-    yield
-    patch.undo()
+pytestmark = pytest.mark.usefixtures("own_model_cache")   # conftest.py
 
 
 def ball_scene(**values):
@@ -263,16 +257,8 @@ def test_the_geo_block_answers_the_built_in_blocks_F_dv():
 
 
 def shipped_ball_settles() -> None:
-    """Skip where this gmsh's coarse mesh of the shipped ball leaves the preload's patch
-    unsettled (PatchUnresolved, the run's one-line refusal: gmsh 4.15's rocks among 26
-    nodes; gmsh 4.8's rests on 3): the tests that call this need a ball at rest."""
-    from vibrofric.core.errors import PatchUnresolved
-
-    try:
-        fe_model.build_model(scenes.load("scenes/ball.toml"), None)
-    except PatchUnresolved as unresolved:
-        import gmsh
-        pytest.skip(f"gmsh {gmsh.__version__}'s coarse ball: {unresolved}")
+    """Skip where this gmsh leaves the shipped ball's preload unsettled (model_at_rest)."""
+    model_at_rest(scenes.load("scenes/ball.toml"))
 
 
 @pytest.mark.parametrize("scene_name", ["longitudinal", "ball"])

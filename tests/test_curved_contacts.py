@@ -17,13 +17,7 @@ from vibrofric.analytic import contact_mechanics as cm  # noqa: E402
 POLE = 1.5e-4
 
 
-@pytest.fixture(scope="module", autouse=True)
-def _own_model_cache(tmp_path_factory):
-    """The balls' models in a cache of this module's (as tests/test_body_fem.py)."""
-    patch = pytest.MonkeyPatch()
-    patch.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
-    yield
-    patch.undo()
+pytestmark = pytest.mark.usefixtures("own_model_cache")   # conftest.py
 
 
 @pytest.fixture(scope="module")

@@ -6,20 +6,14 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from conftest import model_at_rest
 from vibrofric import scene as scenes
 from vibrofric.scene.errors import SceneError
 
 SCENES = "scenes"
 
 
-@pytest.fixture(scope="module", autouse=True)
-def _own_model_cache(tmp_path_factory):
-    """The balls' models in a cache of this module's: they would take the place of a
-    user's blocks in the shared one (model_cache.KEPT_ENTRIES)."""
-    patch = pytest.MonkeyPatch()
-    patch.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
-    yield
-    patch.undo()
+pytestmark = pytest.mark.usefixtures("own_model_cache")   # conftest.py
 
 
 def test_a_holder_needs_an_attachment_with_a_group():
@@ -51,20 +45,6 @@ def pulled_top(model, k_t):
     return tilt, w @ u[3 * model.attach_nodes]
 
 
-def ball_at_rest(scene):
-    """The FE model of ``scene``'s ball; skipped where this gmsh's coarse ball leaves the
-    preload's patch unsettled unheld (PatchUnresolved: gmsh 4.15's rocks among 26 nodes,
-    gmsh 4.8's rests on one)."""
-    from vibrofric.core.errors import PatchUnresolved
-    from vibrofric.fem.model import fe_model
-
-    try:
-        return fe_model.build_model(scene, None)
-    except PatchUnresolved as unresolved:
-        import gmsh
-        pytest.skip(f"gmsh {gmsh.__version__}'s coarse ball: {unresolved}")
-
-
 @pytest.mark.parametrize("holder", ["none", "translating"])
 def test_a_held_ball_does_not_turn_under_a_pull_at_its_top(holder):
     pytest.importorskip("dolfinx")
@@ -73,7 +53,7 @@ def test_a_held_ball_does_not_turn_under_a_pull_at_its_top(holder):
 
     scene = scenes.load(f"{SCENES}/ball.toml").with_values(
         {"drive.attach": "load-group", "drive.holder": holder})
-    model = ball_at_rest(scene)
+    model = model_at_rest(scene)
     tilt, x_top = pulled_top(model, scene.contact.k_t)
     nodes, w = model.attach_nodes, model.attach_weights
     xyz = model.disc.coordinates[nodes]
@@ -90,7 +70,7 @@ def test_a_held_ball_does_not_turn_under_a_pull_at_its_top(holder):
     # elastic compliance between the ties and its contact (measured: 0.97 of the bound,
     # 1e-3 of the unheld ball's tilt)
     unheld = scene.with_values({"drive.holder": "none"})
-    k_hold = holders.hold_stiffness(ball_at_rest(unheld).stiffness, nodes)
+    k_hold = holders.hold_stiffness(model_at_rest(unheld).stiffness, nodes)
     tilting = k_hold * w @ (xyz[:, 0] - w @ xyz[:, 0]) ** 2
     assert 0.0 < tilt <= 1.1 * height / tilting
 
@@ -112,7 +92,7 @@ def test_the_held_bodys_turn_is_no_gauge_of_its_steady_cycle():
     assert unrestrained_motions(unheld) == ("y", "turn")
     energies = []
     for s in (scene, unheld):
-        model = ball_at_rest(s)
+        model = model_at_rest(s)
         xyz = model.disc.coordinates
         centre = model.attach_weights @ xyz[model.attach_nodes]
         turn = np.zeros_like(xyz)
