@@ -76,7 +76,12 @@ def test_without_normal_motion_the_normal_loop_answers_the_existing_loops_bit_fo
     out = np.empty((plan.rows, len(COLUMNS) + len(normal.NORMAL_COLUMNS)))
     assert normal._run_loop(scene, stepper == "coupled", plan, out) == 0
     existing = run(scene).table()
-    assert np.array_equal(out[:, :len(COLUMNS)], existing)
+    # to 1e-11 of each column's largest value, not to the bit: the two are separately
+    # compiled loops, which numba's compile variants may round apart (equal in most fresh
+    # clones; one differed, as the FE table loop's 2.6e-13: benchmarks/same_results.py
+    # holds the shipped scenes' own bits)
+    scale = np.abs(existing).max(axis=0)
+    assert np.all(np.abs(out[:, :len(COLUMNS)] - existing) <= 1e-11 * scale)
     assert np.all(out[:, -1] == scene.contact.F_N) and np.all(out[:, 8:10] == 0.0)
     assert "N" not in run(scene).extra      # and their series keep their columns
 
