@@ -81,6 +81,7 @@ class FECycleMap:
         self.scene, self.model, self.run, self.steps = scene, model, run, steps
         self.dt = scene.time.dt
         self.i0 = first_cycle_step(scene, steps)
+        self.table_start = run.table_row_at(self.i0)   # a motion given per step's row there
         law = scene.friction.law
         self.contact = ContactState.at_preload(model, law)
         self.scalars = initial_scalars(run.extra_scalars)
@@ -217,9 +218,8 @@ class FECycleMap:
         self.scalars[XB] = scene.u0 * s * cos_theta
         self.scalars[YB] = scene.u0 * s * sin_theta
         if scene.vibration.sampled:     # the motion given per step, added
-            row = self.run.table_row_at(self.i0)
-            self.scalars[XB] += row[0]
-            self.scalars[YB] += row[1]
+            self.scalars[XB] += self.table_start[0]
+            self.scalars[YB] += self.table_start[1]
 
     def load(self, z_raw: np.ndarray) -> None:
         """Set the integrator's arrays to the unscaled co-moving state ``z_raw`` at step
@@ -341,9 +341,9 @@ class FECycleMap:
                               * self._velocity_image("z")[:self.size])
         if table_moves_along_z(scene.vibration):   # the table's z_b and dz_b/dt too
             face, speed = start_gain(scene, self.model)
-            row = self.run.table_row_at(self.i0)
-            z[:self.size] += (face * row[2] * self._image(self._motion("z"))[:self.size]
-                              + speed * row[5] * self._velocity_image("z")[:self.size])
+            z_b, vz_b = self.table_start[2], self.table_start[5]
+            z[:self.size] += (face * z_b * self._image(self._motion("z"))[:self.size]
+                              + speed * vz_b * self._velocity_image("z")[:self.size])
         if self.carried_scalars:
             z[self.size] = drive_force
         return z
