@@ -22,9 +22,27 @@ velocity 0). Harmonics whose base cycle is not a whole number of steps, and a pe
 measured motion whose period is not, are sampled at every step of the run instead
 (6 floats a step).
 
-The readers: analytic/normal.py normal_loop (and the periodic solver's cycle map
-over it), fem/integrators/explicit.py explicit_steps; each reads row table_row(i) of
-step i and adds it to the sine's base position.
+The readers, each adding what it reads to the sine's base position:
+
+- analytic/normal.py normal_loop (and the periodic solver's cycle map over it) and
+  fem/integrators/explicit.py explicit_steps read row table_row(i) for step i: the
+  base at the step's end t_{i} = i dt (the explicit start also takes dz_b/dt half a
+  step before the first step on, table_velocity_z).
+- fem/integrators/implicit.py implicit_steps (implicit and reduced) moves the base
+  along each step's m friction sub-steps (contact_solve.implicit_substeps), where the
+  sine is evaluated at every sub-step's end t_{i-1} + j dt / m, j = 1..m (the last:
+  t_i). Its table (substep_table) is this module's table sampled at dt / m: row
+  table_row(k) for sub-step index k = (i - 1) m + j, its period m times the steps'
+  (where it is not periodic, 6 m floats a step of the run).
+  Before t_on the implicit base's sine moves along Z from the start of the first step
+  on (normal_start.py: the body starts there, a step before); the table's z_b and
+  dz_b/dt there, at that step's start and sub-steps, are ``lead`` (table_z_at: a
+  harmonic exactly, a periodic motion wrapped round its period, one that ends held at
+  its first row's z_b, its spline's velocity).
+- fem/integrators/cycle_map.py (the FE periodic solver) loads each cycle's start with
+  the table's row there: a cycle is a whole number of steps, and a periodic table's
+  period is the base cycle (harmonics of integer orders; a periodic motion's file
+  spans 1/f), so every cycle reads the same rows.
 
 A measured motion is interpolated LINEARLY in displacement (exact at the file's
 samples, never overshooting them: a file sampled at the run's steps is reproduced to
@@ -296,6 +314,25 @@ def moves_along_z(vibration) -> bool:
     return vibration.normal_amplitude > 0.0 or table_moves_along_z(vibration)
 
 
+def plane_speed(vibration, omega: float, v_a: float) -> float:
+    """A bound of the base's in-plane speed, m/s: the sine's v_a where the sine alone moves
+    it; with harmonics v_a plus each one's n w sqrt(x^2 + y^2); a measured motion's
+    fastest chord between its samples (its linear interpolant's; k_v is 0 beside it)."""
+    if not vibration.sampled:
+        return v_a
+    if vibration.motion is not None:
+        motion = read_motion(vibration.motion)
+        return float(np.max(np.hypot(np.diff(motion.x), np.diff(motion.y)) / np.diff(motion.t)))
+    return v_a + sum(h.order * omega * math.hypot(h.x, h.y) for h in vibration.harmonics)
+
+
+def plane_order(vibration) -> int:
+    """The highest multiple of the base's frequency at which it moves in the plane: the
+    largest order of a harmonic with an x or a y, else 1 (the sine's; a measured motion's
+    period is the base cycle, its content unknown here)."""
+    return max((h.order for h in vibration.harmonics if h.x != 0.0 or h.y != 0.0), default=1)
+
+
 def table_speed_z(vibration, omega: float) -> float:
     """A bound of the table's |dz_b/dt|, m/s: each harmonic's n w |z| summed, or a measured
     motion's fastest chord in z_b between its samples."""
@@ -322,3 +359,64 @@ def table_velocity_z(vibration, omega: float, s: float) -> float:
         return float(spline(s, 1))
     return sum(h.z * h.order * omega * math.cos(h.order * omega * s + math.radians(h.phase_z_deg))
                for h in vibration.harmonics)
+
+
+def table_z_at(vibration, omega: float, s: np.ndarray) -> np.ndarray:
+    """(len(s), 2): the table's z_b and dz_b/dt at the times ``s`` from t_on, which may
+    precede it (the implicit start's ``lead``, substep_table): harmonics exactly, a
+    measured motion's z_b linearly and its velocity by its spline (module docstring),
+    wrapped round its period where periodic; one that ends holds its first row's z_b
+    before t = 0 (its spline's velocity there extrapolated). Zeros without a table."""
+    s = np.asarray(s, dtype=float)
+    out = np.zeros((s.size, 2))
+    if vibration.motion is not None:
+        from scipy.interpolate import CubicSpline
+
+        motion = read_motion(vibration.motion)
+        z = np.array(motion.z)
+        if vibration.motion_periodic:
+            z[-1] = z[0]
+            s = np.mod(s, motion.span)
+        spline = CubicSpline(motion.t, z, bc_type="periodic" if vibration.motion_periodic
+                             else "not-a-knot")
+        out[:, 0] = np.interp(s, motion.t, z)
+        out[:, 1] = spline(s, 1)
+        return out
+    for h in vibration.harmonics:
+        if h.z == 0.0:
+            continue
+        w = h.order * omega
+        phase = w * s + math.radians(h.phase_z_deg)
+        out[:, 0] += h.z * np.sin(phase)
+        out[:, 1] += h.z * w * np.cos(phase)
+    return out
+
+
+@dataclass(frozen=True)
+class SubstepTable:
+    """The table an implicit integrator reads (module docstring): ``table`` at dt / m
+    (its steps the friction sub-steps), ``per_step`` m, and ``lead`` (m_on + 1, 2):
+    z_b, dz_b/dt at the start of the first step on and at its m_on sub-steps' ends."""
+
+    table: BaseTable
+    per_step: int
+    lead: np.ndarray
+
+
+def substep_table(vibration, omega: float, dt: float, substeps: int, on_step_substeps: int,
+                  t_on: float, on_step: int, last_step: int) -> SubstepTable:
+    """The table of a scene's [vibration] at each of the implicit step's ``substeps``
+    friction sub-steps (module docstring), from the first sub-step at or after t_on to
+    the end of ``last_step``; ``on_step`` the first step on, run on ``on_step_substeps``
+    sub-steps (fewer where it ends at t_on exactly: contact_solve.still_substeps).
+    NO_TABLE and no lead where the sine alone moves the base."""
+    from .base_motion import first_step_on
+
+    h = dt / substeps
+    first = first_step_on(t_on, h)
+    table = base_table(vibration, omega, h, t_on, first, last_step * substeps)
+    if table.rows.shape[0] == 0:
+        return SubstepTable(table, substeps, np.zeros((0, 2)))
+    start = (on_step - 1) * dt
+    s = start + np.arange(on_step_substeps + 1) * (dt / on_step_substeps) - t_on
+    return SubstepTable(table, substeps, table_z_at(vibration, omega, s))

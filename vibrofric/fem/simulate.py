@@ -138,11 +138,20 @@ def run_fe(scene, comm=None, vtk_dir=None, progress=None, start=None,
     return result
 
 
+def shoots(scene) -> bool:
+    """Whether the steady cycle is shot for (integrators/periodic.py) before any stepping:
+    time.method "periodic" or "auto", a vibrated scene, a base motion that repeats (a
+    measured motion that ends has no periodic orbit: "auto" steps it, "periodic" is
+    refused by the scene's checks)."""
+    return (scene.time.method != "transient" and scene.vibrated
+            and scene.vibration.repeats)
+
+
 def _run(scene, model, vtk_dir, progress, start, drive_force, start_time) -> FEResult:
     """The answer at the scene's own integrator and step (run_fe without its estimates)."""
     prepare = registry.select(scene)
     orbit = None
-    if scene.time.method != "transient" and scene.vibrated:
+    if shoots(scene):
         shot_scene, steps = periodic.periodic_scene(scene)
         integrator = prepare(shot_scene, model)
         phi = FECycleMap(integrator, model, steps)    # the compiled step loaded
@@ -244,7 +253,7 @@ def _auto_step(scene, model, drive_force):
     """fem.integrator = "auto": (the scene to answer, at the integrator and step picked,
     and step_error.StepChoice). The integrator is the cheapest at the first step tried
     (registry.choose), the step the one step_error.search_step finds for it."""
-    periodic_answer = scene.time.method != "transient" and scene.vibrated
+    periodic_answer = shoots(scene)
     dt0 = step_error.first_step(scene)
     for halvings in range(step_error.MAX_HALVINGS + 1):   # a stiff contact: no integrator at 25
         if periodic_answer:                                # a cycle (the contact iteration)

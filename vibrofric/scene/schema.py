@@ -166,8 +166,8 @@ class Vibration:
                                            # file (relative to the scene file) with a header
                                            # t, x_b, y_b[, z_b] (s from t_on, m); k_v is 0
                                            # with it, and a k_v, normal_amplitude or harmonics
-                                           # beside it are refused; FE: the explicit
-                                           # integrator, stepped (core/base_table.py)
+                                           # beside it are refused; FE: every
+                                           # integrator (core/base_table.py)
     motion_periodic: bool = False          # the motion file spans one period, its last row the
                                            # next period's first, repeated (its frequency
                                            # replaces vibration.f); false: after the file ends

@@ -4,10 +4,9 @@ invalid or unrunnable one raises SceneError naming its key."""
 import math
 from pathlib import Path
 
-import numpy as np
-
 from ..core.base_table import (WHOLE_STEPS, check_closed, check_harmonics, moves_along_z,
-                               read_motion, table_moves_along_z, table_speed_z, whole_steps)
+                               plane_speed, read_motion, table_moves_along_z, table_speed_z,
+                               whole_steps)
 from ..core.errors import BadBaseMotion, BadBody
 from ..friction_law import LawError
 from ..meshes import MESH_SUFFIXES, level_counts
@@ -225,14 +224,9 @@ def table_key(scene) -> str:
 
 
 def table_plane_speed(scene) -> float:
-    """The base's largest in-plane speed, m/s, where its motion is given per step: the
-    sine's v_a plus each harmonic's n w sqrt(x^2 + y^2) (a bound), or a measured motion's
-    fastest chord between its samples (its linear interpolant's)."""
-    vib = scene.vibration
-    if vib.motion is not None:
-        motion = read_motion(vib.motion)
-        return float(np.max(np.hypot(np.diff(motion.x), np.diff(motion.y)) / np.diff(motion.t)))
-    return scene.v_a + sum(h.order * scene.omega * math.hypot(h.x, h.y) for h in vib.harmonics)
+    """The base's largest in-plane speed, m/s, where its motion is given per step
+    (core.base_table.plane_speed)."""
+    return plane_speed(scene.vibration, scene.omega, scene.v_a)
 
 
 def _check_base_table(scene) -> None:
@@ -285,17 +279,7 @@ def check_fe_scene(scene) -> None:
     faster than its step resolves (normal_step_bound; on the block, whose penalty is
     known before its mesh is: another body's run stops at the first step past
     the normal-force limit, fem/outputs/trouble.py), the speed along Z of a base motion
-    given per step bounded alike; such a motion (core/base_table.py) other than stepped
-    by the explicit integrator."""
-    if scene.vibration.sampled:
-        key = table_key(scene)
-        if scene.fem.integrator != "explicit":
-            raise SceneError("fem.integrator", f"\"{scene.fem.integrator}\": only the explicit "
-                                               f"integrator reads {key}; use \"explicit\"")
-        if scene.time.method != "transient":
-            raise SceneError("time.method", f"\"{scene.time.method}\": the FE model steps {key} "
-                                            "through time.T (its periodic solver does not read "
-                                            "it); use \"transient\"")
+    given per step (core/base_table.py) bounded alike."""
     if scene.vibration.normal_amplitude > 0.0 and (scene.body.is_block
                                                    or scene.fem.penalty is not None):
         bound = normal_step_bound(scene)

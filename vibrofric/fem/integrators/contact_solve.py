@@ -24,6 +24,7 @@ import numpy as np
 from numba import njit
 
 from ...core.base_motion import normal_displacement
+from ...core.base_table import plane_order, table_row
 from ...core.law_limits import slip_resolving_step
 from ...friction_law import law_kernel
 from ...friction_law.contract import FASTMATH
@@ -110,9 +111,13 @@ def implicit_substeps(scene) -> int:
     On the coupled scene at k_v = 20, theta = 75 deg, dt = 1e-5 s: with the
     cycle rule alone (3 sub-steps) F_dv was 4.8% below the explicit run at
     2.5e-7 s; with 28 sub-steps it is 0.25% below (at 120 deg +0.8%).
+    A base motion given per step (core/base_table.py) counts in both rules: its
+    highest in-plane harmonic n sets SUBSTEPS_PER_CYCLE a cycle of n f, and its
+    in-plane speed the fastest sliding (law_limits.slip_resolving_step).
     """
     dt = scene.time.dt
-    per_cycle = math.ceil(SUBSTEPS_PER_CYCLE * scene.vibration.f * dt - 1e-9)
+    cycles = plane_order(scene.vibration) * scene.vibration.f * dt
+    per_cycle = math.ceil(SUBSTEPS_PER_CYCLE * cycles - 1e-9)
     resolving = math.ceil(dt / slip_resolving_step(scene) - 1e-9)
     return max(1, per_cycle, resolving)
 
@@ -392,6 +397,41 @@ def normal_over_substeps(t, dt, amplitude_n, omega, t_on, t_from, sin_n, cos_n, 
             phase = omega * (t_j - t_on)
             base_z[j], base_vz[j] = normal_displacement(amplitude_n, omega, sin_n, cos_n,
                                                         math.sin(phase), math.cos(phase))
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def table_over_substeps(i, on_step, rows, first, period, per_step, lead, eta_y, base_dx,
+                        base_free, base_z, base_vz):
+    """Add a base motion given per step (core/base_table.py substep_table) to the sine's
+    over step i's friction sub-steps, the first len(base_dx) entries: its X and eta_y Y
+    increments (base_dx, base_free) and its Z and Z velocity at each sub-step's end
+    (base_z, base_vz). Sub-step j of the step ends at the table's index
+    (i - 1) per_step + j + 1; a step before the base starts, on fewer sub-steps
+    (still_substeps), meets the table only at its end, i per_step. Where the table has
+    not started, X and Y rest at 0 (as the sine does before t_on) and, in the first
+    step on (on_step), Z follows ``lead`` (the table's z_b, dz_b/dt at that step's
+    sub-steps: as normal_over_substeps takes the sine on a step before t_on).
+    Returns the table's (x_b, y_b) at the step's end."""
+    m = base_dx.shape[0]
+    k = table_row(rows, first, period, (i - 1) * per_step)
+    x_prev = rows[k, 0] if k >= 0 else 0.0
+    y_prev = rows[k, 1] if k >= 0 else 0.0
+    for j in range(m):
+        index = (i - 1) * per_step + j + 1 if m == per_step else (i * per_step if j == m - 1
+                                                                   else -1)
+        k = table_row(rows, first, period, index) if index >= 0 else -1
+        if k >= 0:
+            x, y, z, vz = rows[k, 0], rows[k, 1], rows[k, 2], rows[k, 5]
+        else:
+            x = y = z = vz = 0.0
+            if i == on_step and lead.shape[0] == m + 1:
+                z, vz = lead[j + 1, 0], lead[j + 1, 1]
+        base_dx[j] += x - x_prev
+        base_free[j] += eta_y * (y - y_prev)   # phase 2: eta_y dy_b (eq 30)
+        base_z[j] += z
+        base_vz[j] += vz
+        x_prev, y_prev = x, y
+    return x_prev, y_prev
 
 
 @law_kernel(cache=True, error_model="numpy", fastmath=FASTMATH)

@@ -23,6 +23,13 @@ variables), so that the map acts on the restrained state alone (with a prescribe
 drive, which holds the attachment in Y too, only the turn). A holder
 (drive.holder = "translating", fem/model/holder.py) restrains the turn: its ties
 resist any turn of the held group, so the turn is no gauge there and stays in z.
+
+A base motion given per step (core/base_table.py): its table repeats every base cycle
+where the solver is asked to run it (harmonics; a periodic measured motion, whose
+file spans 1/f), so each cycle reads the same rows; the cycle's start takes the
+table's position at step i0 (time_loop.TimeLoop.table_row_at), and where the table
+moves the base along Z the start of steady sliding puts the body on its forced
+response to it too.
 """
 
 import math
@@ -30,6 +37,7 @@ import math
 import numpy as np
 
 from ...core.base_motion import normal_phase, vibration_axis
+from ...core.base_table import table_moves_along_z
 from ...core.series import RecordPlan
 from ..outputs.recording import (COS, SIN, XB, YB, Recorder, initial_scalars, node_stride,
                                  scene_columns)
@@ -73,6 +81,7 @@ class FECycleMap:
         self.scene, self.model, self.run, self.steps = scene, model, run, steps
         self.dt = scene.time.dt
         self.i0 = first_cycle_step(scene, steps)
+        self.table_start = run.table_row_at(self.i0)   # a motion given per step's row there
         law = scene.friction.law
         self.contact = ContactState.at_preload(model, law)
         self.scalars = initial_scalars(run.extra_scalars)
@@ -208,6 +217,9 @@ class FECycleMap:
         self.scalars[SIN], self.scalars[COS] = s, c
         self.scalars[XB] = scene.u0 * s * cos_theta
         self.scalars[YB] = scene.u0 * s * sin_theta
+        if scene.vibration.sampled:     # the motion given per step, added
+            self.scalars[XB] += self.table_start[0]
+            self.scalars[YB] += self.table_start[1]
 
     def load(self, z_raw: np.ndarray) -> None:
         """Set the integrator's arrays to the unscaled co-moving state ``z_raw`` at step
@@ -327,6 +339,11 @@ class FECycleMap:
             z[:self.size] += (face * amplitude * sin_n * self._image(self._motion("z"))[:self.size]
                               + speed * amplitude * scene.omega * cos_n
                               * self._velocity_image("z")[:self.size])
+        if table_moves_along_z(scene.vibration):   # the table's z_b and dz_b/dt too
+            face, speed = start_gain(scene, self.model)
+            z_b, vz_b = self.table_start[2], self.table_start[5]
+            z[:self.size] += (face * z_b * self._image(self._motion("z"))[:self.size]
+                              + speed * vz_b * self._velocity_image("z")[:self.size])
         if self.carried_scalars:
             z[self.size] = drive_force
         return z

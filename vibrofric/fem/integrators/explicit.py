@@ -34,7 +34,8 @@ measured against z_b(t_{n+1}) and its dashpot against the base's speed
 
 A base motion given per step (vibration.harmonics, vibration.motion: core/base_table.py)
 adds its table's x_b, y_b, z_b and dz_b/dt to the sine's at each step, as the lumped
-model does, and its z_b to the start; stepped only (scene/validation.py check_fe_scene).
+model does, and its z_b to the start; the FE periodic solver's cycles read it the same
+way (cycle_map.py).
 """
 
 import math

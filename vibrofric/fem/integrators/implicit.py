@@ -15,6 +15,12 @@ only part compiled for each friction law), step_cost.py (for "auto"),
 energy.py (the balance); here, the prepared run (ImplicitRun: the
 factorization, the contact operator G, the refusal of a too-long step) and
 its compiled step, implicit_steps.
+
+A base motion given per step (vibration.harmonics, vibration.motion: core/base_table.py)
+is read at every friction sub-step's end, where the sine is evaluated
+(contact_solve.table_over_substeps), and added to it; where it moves the base along Z
+the body starts on its forced response to the sine's and the table's z_b together
+(normal_start.py), as the explicit integrator's does.
 """
 
 import math
@@ -27,6 +33,7 @@ from numba import njit
 
 from ...core.base_motion import (base_displacement, normal_displacement, normal_phase,
                                  vibration_axis)
+from ...core.base_table import TABLE_COLUMNS, substep_table, table_moves_along_z, table_row
 from ...core.errors import StepTooLong
 from ...core.law_limits import slip_per_step
 from ...friction_law import law_kernel
@@ -36,7 +43,7 @@ from .borrowed import borrowed
 from .contact_solve import (ITERATION_TOLERANCE, MAX_CONTRACTION, MAX_ITERATIONS, NOT_CONVERGED,
                             STALLED, ContactData, StepStart, base_over_substeps, commit_contact,
                             implicit_substeps, iterate_contact, normal_over_substeps,
-                            still_substeps)
+                            still_substeps, table_over_substeps)
 from .normal_start import (first_step_on, normal_force_limit, restart_normal_forces,
                            start_gain, start_motion)
 from ..model.drive import attachment_xy
@@ -137,6 +144,12 @@ class BaseMotion(NamedTuple):
     lift: np.ndarray        # (n,) the q of every node moving by 1 in Z
     origin: np.ndarray      # (n,) zeros: q's preload (start_motion's reference)
     body_mass: float        # kg
+    table: np.ndarray       # a motion given per step at the friction sub-steps
+    table_from: int         # (core/base_table.py substep_table: its rows, first sub-step,
+    table_period: int       # period in sub-steps, sub-steps a step, lead before t_on);
+    table_per_step: int     # no rows: the sine alone
+    table_lead: np.ndarray
+    table_lifts: bool       # the table moves the base along Z
 
 
 class Drive(NamedTuple):
@@ -223,6 +236,12 @@ class ImplicitRun(TimeLoop):
         self.scene, self.model, self.system, self.name = scene, model, system, name
         self.coefficients = coefficients(scene.fem.rho_infinity, t.dt)
         self.substeps = implicit_substeps(scene)
+        # a base motion given per step, at the friction sub-steps (core/base_table.py)
+        on_step = first_step_on(scene)
+        on_substeps = self.substeps if on_step * t.dt > scene.vibration.t_on else \
+            still_substeps(scene)
+        self.table = substep_table(scene.vibration, scene.omega, t.dt, self.substeps,
+                                   on_substeps, scene.vibration.t_on, on_step, scene.steps)
         alpha_m, alpha_f, beta_n, gamma, c_m, c_v = self.coefficients
         self.tangent = contact_tangent(model, scene, c_v)
         self.assumed = (model.normal0 > 0.0).astype(float)   # in contact at the preload
@@ -315,11 +334,13 @@ class ImplicitRun(TimeLoop):
         nodes = ContactData(u0c, model.normal0, model.penalty_share, model.area_share,
                             model.nominal_normal, model.initial_gap, self.tangent, self.assumed)
         lift = np.ascontiguousarray(system.rigid(np.tile([0.0, 0.0, 1.0], model.dofs // 3)))
-        base = BaseMotion(scene.u0, scene.omega, scene.vibration.t_on, cos_theta, sin_theta,
-                          c.eta_y, scene.vibration.normal_amplitude,
-                          *normal_phase(scene.vibration.normal_phase_deg),
-                          first_step_on(scene), start_gain(scene, model), lift,
-                          np.zeros_like(lift), model.block_mass)
+        vib, on_step, motion = scene.vibration, first_step_on(scene), self.table
+        base = BaseMotion(scene.u0, scene.omega, vib.t_on, cos_theta, sin_theta,
+                          c.eta_y, vib.normal_amplitude, *normal_phase(vib.normal_phase_deg),
+                          on_step, start_gain(scene, model), lift, np.zeros_like(lift),
+                          model.block_mass, motion.table.rows, motion.table.first_step,
+                          motion.table.period, motion.per_step, motion.lead,
+                          table_moves_along_z(vib))
         scheme = Scheme(dt, *self.coefficients, model.beta,
                         self.iteration_tolerance * c.F_N / scene.law_bounds.stiffness, MAX_ITERATIONS,
                         still_substeps(scene))
@@ -351,6 +372,15 @@ class ImplicitRun(TimeLoop):
 
         return Started(steps, lambda: (model.u0 + system.expand(q), system.expand(v)),
                        {"q": q, "v": v, "a": a, "g_prev": g_prev}, rigid)
+
+    def table_row_at(self, i: int) -> np.ndarray:
+        """The row of the base motion given per step read at the end of step i: the table
+        at the friction sub-steps, its sub-step index i m."""
+        if not self.scene.vibration.sampled:
+            return np.zeros(len(TABLE_COLUMNS))
+        table = self.table.table
+        k = table_row(table.rows, table.first_step, table.period, i * self.table.per_step)
+        return table.rows[k].copy() if k >= 0 else np.zeros(len(TABLE_COLUMNS))
 
     def stats(self, scalars, last: int) -> dict:
         return {"iterations_max": int(scalars[ITER_MAX]),
@@ -411,8 +441,10 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
      recorder) = borrowed((operators, contact, params, work, q, v, a, states, normal, friction,
                            g_prev, scalars, sums, recorder))
     amplitude, omega, t_on, cos_theta, sin_theta, eta_y = base[:6]
-    amplitude_n, sin_n, cos_n, on_step, gain, lift, origin, body_mass = base[6:]
-    lifts_off = amplitude_n > 0.0
+    amplitude_n, sin_n, cos_n, on_step, gain, lift, origin, body_mass = base[6:14]
+    table, table_from, table_period, table_per_step, lead = base[14:19]
+    has_table = table.shape[0] > 0
+    lifts_off = amplitude_n > 0.0 or base.table_lifts
     k_d, v_d, prescribed = drive
     spring = math.inf if prescribed else k_d   # the drive spring's stiffness (energy)
     dt, alpha_f, beta_n, gamma, beta = scheme.dt, scheme.alpha_f, scheme.beta_n, scheme.gamma, scheme.beta
@@ -430,12 +462,17 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
             # the state at t_n, a step before the first step on: onto the body's forced
             # response to the base's sinusoid there (normal_start.py), its contact
             # forces afresh; the base moves along it from t_n (normal_over_substeps)
+            z_lead = lead[0, 0] if has_table else 0.0    # the table's z_b, dz_b/dt there
+            vz_lead = lead[0, 1] if has_table else 0.0
             start_motion(q, origin, v, lift, operators.contact_dofs[:, 2], contact.area_share,
-                         gain, t - dt, dt, t_on, amplitude_n, omega, sin_n, cos_n, 0.0, 0.0,
-                         0.0)
+                         gain, t - dt, dt, t_on, amplitude_n, omega, sin_n, cos_n, 0.0, z_lead,
+                         vz_lead)
             phase = omega * (t - dt - t_on)
             z_on, vz_on = normal_displacement(amplitude_n, omega, sin_n, cos_n, math.sin(phase),
                                               math.cos(phase))
+            if has_table:
+                z_on += z_lead
+                vz_on += vz_lead
             change = restart_normal_forces(q, v, operators.contact_dofs, contact.u0c[:, 2],
                                            contact.initial_gap, contact.penalty_share, beta,
                                            z_on, vz_on, contact.tangent, contact.assumed,
@@ -451,12 +488,18 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         u_base, sin_phase, cos_phase = base_displacement(i, dt, omega, t_on, amplitude, sin_phase,
                                                          cos_phase, cos_step, sin_step)
         xb_new, yb_new = u_base * cos_theta, u_base * sin_theta
-        dx_b, dy_b = xb_new - xb, yb_new - yb
         m = work.base_dx.shape[0] if t > t_on else scheme.still_substeps
         base_over_substeps(t, dt, u_base, amplitude, omega, t_on, cos_theta, sin_theta, eta_y,
                            work.base_dx[:m], work.base_free[:m])
         normal_over_substeps(t, dt, amplitude_n, omega, t_on, (on_step - 1) * dt, sin_n, cos_n,
                              work.base_z[:m], work.base_vz[:m])
+        if has_table:   # the motion given per step (core/base_table.py), added
+            x_table, y_table = table_over_substeps(
+                i, on_step, table, table_from, table_period, table_per_step, lead, eta_y,
+                work.base_dx[:m], work.base_free[:m], work.base_z[:m], work.base_vz[:m])
+            xb_new += x_table
+            yb_new += y_table
+        dx_b, dy_b = xb_new - xb, yb_new - yb
         step = StepStart(q, v, work.vt, work.qt, work.base_dx[:m], work.base_free[:m],
                          work.base_z[:m], work.base_vz[:m])
         zb_new = work.base_z[m - 1]

@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...core.base_motion import first_step_on
+from ...core.base_table import TABLE_COLUMNS, base_table, table_row
 from ...core.series import averaging_steps
 from ..outputs import trouble
 from ..outputs.tipping import TipWatch
@@ -90,6 +92,20 @@ class TimeLoop:
     def stats(self, scalars, last: int) -> dict:
         """The integrator's own statistics of a run that ended at step ``last``."""
         return {}
+
+    def table_row_at(self, i: int) -> np.ndarray:
+        """The row (core/base_table.py TABLE_COLUMNS) of the base motion given per step
+        that the compiled step reads at the end of step i, zeros where the sine alone
+        moves the base: here the table at every step (explicit.py); the implicit
+        integrators read theirs at the friction sub-steps (implicit.py)."""
+        scene = self.scene
+        vib = scene.vibration
+        if not vib.sampled:
+            return np.zeros(len(TABLE_COLUMNS))
+        table = base_table(vib, scene.omega, scene.time.dt, vib.t_on,
+                           first_step_on(vib.t_on, scene.time.dt), scene.steps)
+        k = table_row(table.rows, table.first_step, table.period, i)
+        return table.rows[k].copy() if k >= 0 else np.zeros(len(TABLE_COLUMNS))
 
     def integrate(self, plan, frame=None, every=0, progress=None) -> Integration:
         """Run ``plan.steps`` steps of time.dt from the static preload (fewer once
