@@ -42,8 +42,8 @@ once build it once. The body's entry holds its cells too, from which the
 ParaView frames are written (outputs/paraview.py): a run from the cache never loads
 DOLFINx, gmsh or MPI.
 
-The values are the computed arrays stored bit for bit (.npz of float64): a
-run gives the same results with or without the cache.
+The values are the computed arrays stored bit for bit (.npz of float64, the basis
+a .npy): a run gives the same results with or without the cache.
 VIBROFRIC_MODEL_CACHE=0 turns it off.
 """
 
