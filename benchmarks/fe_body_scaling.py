@@ -1,6 +1,7 @@
 """How the FE model's set-up and step grow with DOFs and contact candidates: the ball
 refined at its contact beside the paper's block, at about 20k, 50k and 100k DOFs
-(docs/performance.md, "2026-11-27: the FE ball and block from 20k to 100k DOFs").
+(docs/performance.md, "2026-11-27: the FE ball and block from 20k to 100k DOFs" and,
+the 50k ball's basis read apart, "2026-11-27: the cached reduction without its basis").
 
 The ball is scenes/ball.toml's at fem.mesh = "fine" (its Hertz patch resolved by
 refinement.PATCH_ELEMENTS["fine"] elements across its radius), with the element edge
