@@ -79,6 +79,31 @@ def test_prune_keeps_the_most_recently_used(tmp_path):
                                                            "other.npz"]
 
 
+@pytest.mark.parametrize("damage", ["flip", "truncate", "foreign"])
+def test_a_mapped_array_file_is_checked(tmp_path, damage):
+    """A large array kept as a plain file is mapped only where its bytes are the ones
+    its SHA-256 names (held by a checked entry); else it is removed."""
+    array = np.random.default_rng(2).standard_normal((40, 7))
+    path = tmp_path / "basis.npy"
+    disk_cache.write_array_file(path, array)
+    digest = disk_cache.array_digest(array)
+    mapped = disk_cache.mapped_array(path, digest, array.shape)
+    assert type(mapped) is np.ndarray and np.array_equal(mapped, array)
+    assert not mapped.flags.writeable and [p.name for p in tmp_path.iterdir()] == ["basis.npy"]
+    del mapped
+    if damage == "foreign":
+        disk_cache.write_array_file(path, array[:, :6])      # another shape
+    else:
+        data = bytearray(path.read_bytes())
+        if damage == "flip":
+            data[-8] ^= 0x01
+        else:
+            data = data[:len(data) // 2]
+        path.write_bytes(bytes(data))
+    assert disk_cache.mapped_array(path, digest, array.shape) is None and not path.exists()
+    assert disk_cache.mapped_array(path, digest, array.shape) is None   # absent
+
+
 def test_the_cache_directory_follows_xdg(monkeypatch, tmp_path):
     monkeypatch.delenv("VIBROFRIC_CACHE", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
@@ -140,7 +165,7 @@ def test_a_repeat_run_reads_the_model_from_the_cache(model_cache_dir, load_scene
     assert np.array_equal(first.u0, second.u0) and first.dt_stable == second.dt_stable
     assert (np.array_equal(first.normal0, second.normal0)
             and np.array_equal(first.in_contact0, second.in_contact0))
-    for name in reduction.Reduction.STORED:
+    for name in reduction.Reduction.STORED + ("basis",):
         assert np.array_equal(getattr(first_reduction, name), getattr(second_reduction, name))
     reduction.forget()
 
@@ -164,6 +189,71 @@ def test_a_corrupt_model_entry_is_rebuilt(model_cache_dir, load_scene, monkeypat
     assert assembled                                # assembled anew, not read
     assert np.array_equal(first.disc.stiffness.data, again.disc.stiffness.data)
     assert disk_cache.read_arrays(entry) is not None  # and stored again, whole
+
+
+def test_the_cached_reduction_reads_its_basis_when_first_asked_for(model_cache_dir,
+                                                                   load_scene, monkeypatch):
+    """The reduced run's set-up from the cache reads the small arrays only; the basis is
+    mapped when a state is first expanded into the whole field, and a damaged or pruned
+    basis file is made again, the same bits."""
+    from mpi4py import MPI
+
+    from vibrofric.fem.integrators import reduction
+    from vibrofric.fem.model import fe_model
+
+    scene = _short_scene(load_scene, "reduced", 1e-5)
+    cutoff = scene.fem.cutoff * scene.vibration.f
+    model = fe_model.build_model(scene, MPI.COMM_SELF)
+    reduction.forget()
+    made = reduction.reduced(model, cutoff)
+    (basis_file,) = model_cache_dir.glob("basis-*.npy")
+    mapped, mapping = [], disk_cache.mapped_array
+    monkeypatch.setattr(disk_cache, "mapped_array",
+                        lambda *args: mapped.append(1) or mapping(*args))
+    reduction.forget()
+    read = reduction.reduced(model, cutoff)
+    system = read.system()
+    q = np.random.default_rng(3).standard_normal(read.size)
+    assert not mapped                               # set up without the basis
+    assert np.array_equal(system.expand(q), made.basis @ q) and mapped == [1]
+    assert np.array_equal(read.basis, made.basis) and mapped == [1]   # mapped once
+
+    data = bytearray(basis_file.read_bytes())
+    data[len(data) // 2] ^= 0x01
+    basis_file.write_bytes(bytes(data))
+    reduction.forget()
+    again = reduction.reduced(model, cutoff)
+    assert np.array_equal(again.basis, made.basis) and len(mapped) == 2   # made again
+    digest = disk_cache.array_digest(made.basis)
+    assert mapping(basis_file, digest, made.basis.shape) is not None   # stored again
+    basis_file.unlink()
+    reduction.forget()
+    assert np.array_equal(reduction.reduced(model, cutoff).basis, made.basis)
+    reduction.forget()
+
+
+def test_a_cached_reduced_run_writes_the_same_frames(model_cache_dir, load_scene, tmp_path):
+    """A reduced run that builds its reduction and one that reads it from the cache (its
+    basis mapped when the frames first need it) give the same series, fields and
+    ParaView files, bit for bit."""
+    from vibrofric.fem import run_fe
+    from vibrofric.fem.integrators import reduction
+
+    scene = _short_scene(load_scene, "reduced", 1e-5).with_values({"fem.output_every": 50})
+    reduction.forget()
+    built = run_fe(scene, vtk_dir=tmp_path / "built")
+    reduction.forget()
+    read = run_fe(scene, vtk_dir=tmp_path / "read")
+    assert read.info["integrator"] == "reduced" and built.info["frames"] > 1
+    assert np.array_equal(built.series.table(), read.series.table())
+    for name, field in built.fields.items():
+        assert np.array_equal(field, read.fields[name]), name
+    written = sorted(p.name for p in (tmp_path / "built").iterdir())
+    assert written == sorted(p.name for p in (tmp_path / "read").iterdir())
+    for name in written:
+        assert ((tmp_path / "built" / name).read_bytes()
+                == (tmp_path / "read" / name).read_bytes()), name
+    reduction.forget()
 
 
 @pytest.mark.parametrize("integrator, dt", [("explicit", 1e-6), ("reduced", 1e-5)])

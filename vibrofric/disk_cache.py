@@ -106,6 +106,44 @@ def read_arrays(path: Path) -> dict | None:
         return None
 
 
+def array_digest(array: np.ndarray) -> str:
+    """The SHA-256 of an array's bytes in C order (what ``mapped_array`` checks)."""
+    return hashlib.sha256(np.ascontiguousarray(array).data).hexdigest()
+
+
+def write_array_file(path: Path, array: np.ndarray) -> None:
+    """Write ``array`` as a .npy file at ``path``: a temporary file renamed into place."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
+    try:
+        with os.fdopen(handle, "wb") as file:
+            np.save(file, np.ascontiguousarray(array), allow_pickle=False)
+            file.flush()
+            os.fsync(file.fileno())
+        os.replace(temporary, path)
+    finally:
+        Path(temporary).unlink(missing_ok=True)
+
+
+def mapped_array(path: Path, digest: str, shape: tuple) -> np.ndarray | None:
+    """The float64 array that write_array_file wrote at ``path``, mapped read-only, or
+    None: absent, or not the array of SHA-256 ``digest`` and ``shape`` (then removed).
+    The map stays valid if another process removes the file meanwhile (pruning)."""
+    try:
+        array = np.load(path, mmap_mode="r", allow_pickle=False)
+    except FileNotFoundError:
+        return None
+    except (ValueError, OSError):   # a truncated or foreign file
+        _remove(path)
+        return None
+    if (array.dtype != np.float64 or array.shape != tuple(shape)
+            or not array.flags.c_contiguous or array_digest(array) != digest):
+        del array
+        _remove(path)
+        return None
+    return array.view(np.ndarray)   # a plain array over the map (its products too)
+
+
 def prune(directory: Path, pattern: str, kept: int) -> None:
     """Remove the entries matching ``pattern`` beyond the ``kept`` most recently modified
     (with their lock files; best effort: another process may be removing them too)."""

@@ -61,6 +61,13 @@ reduced (``reduced``, ``_full_compliance``), recognized by its matrices'
 content, and ``forget()`` drops them. On the Fig 12 study the set-up was
 0.75 s of each point's 2.8 s. Both are also kept on disk (model/model_cache.py), so
 that a repeat run or another process finds them built.
+
+The steps need only the small arrays: M_r, K_r, the boundary and the
+projections T^T d of the drive and of the compliance's loads, which the set-up
+computes once from T. T itself (dofs x size, 0.7 GB on a 47k-DOF ball) only
+expands a state into the whole field, for frames and the run's last fields: from
+the model cache it is read (mapped, and checked) when first asked for
+(``Reduction.basis``), not at set-up.
 """
 
 import hashlib
@@ -114,44 +121,84 @@ def forget() -> None:
 
 def reduced(model, cutoff_hz: float) -> "Reduction":
     """Reduction(model, cutoff_hz), or the one this process made last for the same, or
-    the one the model cache holds (model/model_cache.py)."""
+    the one the model cache holds (model/model_cache.py): its small arrays read, its
+    basis read when first asked for (``Reduction.basis``)."""
     key = model_key(model)
     if (key, cutoff_hz) not in _last_reduction:
         forget()
         parts = {"model": key, "cutoff_hz": float(cutoff_hz), "numpy": np.__version__,
                  "scipy": scipy.__version__}
-        arrays = model_cache.cached("reduction", parts,
-                                    lambda: Reduction(model, cutoff_hz, key).arrays())
-        _last_reduction[key, cutoff_hz] = Reduction.from_arrays(arrays, key)
+        built = []
+
+        def build():
+            made = Reduction(model, cutoff_hz, key)
+            built.append(made)
+            return {**made.arrays(),
+                    "basis_sha256": model_cache.store_array("basis", parts, made.basis)}
+
+        arrays = model_cache.cached("reduction", parts, build)
+        if built:
+            made = built[0]
+        else:
+            def basis():
+                shape = (model.dofs, arrays["mass"].shape[0])
+                T = model_cache.mapped_array("basis", parts, str(arrays["basis_sha256"]),
+                                             shape)
+                if T is None:   # pruned or damaged: made again (the same computation)
+                    T = Reduction(model, cutoff_hz, key).basis
+                    model_cache.store_array("basis", parts, T)
+                return T
+
+            made = Reduction.from_arrays(arrays, key, basis)
+        _last_reduction[key, cutoff_hz] = made
     return _last_reduction[key, cutoff_hz]
 
 
 class Reduction:
     """The Craig-Bampton basis of a model and the reduced matrices.
 
-    basis       T (dofs, size), dense
+    basis       T (dofs, size), dense (read when first asked for: from_arrays)
     mass, stiffness   M_r, K_r (size, size)
     boundary    the full-model DOFs of q_b, contact node by node (X, Y, Z)
     frequencies the kept fixed-interface modes' frequencies, Hz
+    drive_x, drive_y  T^T d_x, T^T d_y (size,): the drive's attachment weights d on
+                the nodes' X, Y DOFs, projected (x_A = (T^T d_x)^T q)
+    compliance_loads  T^T P (size, 3): compliance_error's loads P projected
     model_key   model_key(model): its full compliances are kept under it
     compliances the reduced compliances computed so far, by (k_t, omega) (compliance_error)
     """
 
-    STORED = ("basis", "boundary", "frequencies", "mass", "stiffness")   # model_cache's arrays
+    # model_cache's entry: all but the basis, which it keeps apart
+    STORED = ("boundary", "frequencies", "mass", "stiffness", "drive_x", "drive_y",
+              "compliance_loads")
 
     def arrays(self) -> dict:
-        """What model_cache stores of it."""
+        """What model_cache stores of it in its entry."""
         return {name: getattr(self, name) for name in self.STORED}
 
     @classmethod
-    def from_arrays(cls, arrays: dict, key: str) -> "Reduction":
-        """The Reduction that ``arrays()`` gave, for the model of ``model_key`` ``key``."""
+    def from_arrays(cls, arrays: dict, key: str, basis) -> "Reduction":
+        """The Reduction that ``arrays()`` gave, for the model of ``model_key`` ``key``;
+        ``basis()`` gives its T, called when T is first asked for."""
         reduction = cls.__new__(cls)
         reduction.model_key = key
         reduction.compliances = {}
         for name in cls.STORED:
             setattr(reduction, name, arrays[name])
+        reduction._basis, reduction._read_basis = None, basis
         return reduction
+
+    @property
+    def basis(self) -> np.ndarray:
+        """T (dofs, size)."""
+        if self._basis is None:
+            self._basis = self._read_basis()
+            self._read_basis = None
+        return self._basis
+
+    @property
+    def size(self) -> int:
+        return self.mass.shape[0]
 
     def __init__(self, model, cutoff_hz: float, key: str | None = None):
         self.model_key = key if key is not None else model_key(model)
@@ -183,8 +230,10 @@ class Reduction:
         T[boundary, np.arange(boundary.size)] = 1.0
         T[np.ix_(interior, np.arange(boundary.size))] = constraint
         T[interior, boundary.size:] = np.hstack([modes] + extra)
-        self.basis = T
+        self._basis = T
         self.boundary = boundary
+        self.drive_x, self.drive_y = (T.T @ d for d in _drive_loads(model))
+        self.compliance_loads = T.T @ _compliance_loads(model, boundary)
         self.frequencies = omega / (2.0 * math.pi)
         self.mass, self.stiffness = self._projected(K, model.disc.mass, boundary, interior,
                                                     constraint, T[interior, boundary.size:])
@@ -235,26 +284,30 @@ class Reduction:
                 return vectors, np.sqrt(w2[keep])
             k *= 2
 
-    def system(self, model) -> LinearSystem:
+    def system(self) -> LinearSystem:
         """The reduced model as the implicit integrator's linear system."""
-        T = self.basis
-        dx, dy = np.zeros(T.shape[0]), np.zeros(T.shape[0])
-        dx[3 * model.attach_nodes] = model.attach_weights
-        dy[3 * model.attach_nodes + 1] = model.attach_weights
-        drive_x, drive_y = T.T @ dx, T.T @ dy
+        drive_x, drive_y = self.drive_x, self.drive_y
         index = np.flatnonzero((drive_x != 0.0) | (drive_y != 0.0))
         contact_dofs = np.arange(self.boundary.size).reshape(-1, 3)
-        boundary = self.boundary
+        boundary, size = self.boundary, self.size
 
         def rigid(motion):
             # A rigid motion is static (K annihilates it): its interior is Psi times its
             # boundary, so q = (its boundary values, no modal amplitudes) reproduces it.
-            q = np.zeros(T.shape[1])
+            q = np.zeros(size)
             q[:boundary.size] = motion[boundary]
             return q
 
         return LinearSystem(self.mass, self.stiffness, contact_dofs, index,
-                            drive_x[index], drive_y[index], lambda q: T @ q, rigid)
+                            drive_x[index], drive_y[index], lambda q: self.basis @ q, rigid)
+
+
+def _drive_loads(model) -> tuple:
+    """d_x, d_y (dofs,): the drive's attachment weights on its nodes' X and on their Y."""
+    dx, dy = np.zeros(model.dofs), np.zeros(model.dofs)
+    dx[3 * model.attach_nodes] = model.attach_weights
+    dy[3 * model.attach_nodes + 1] = model.attach_weights
+    return dx, dy
 
 
 def _linearized_contact(model, k_t) -> np.ndarray:
@@ -334,9 +387,8 @@ def _reduced_compliance(model, reduction: Reduction, k_t: float, omega: float) -
     the reduction."""
     kept = reduction.compliances
     if (k_t, omega) not in kept:
-        T, b = reduction.basis, reduction.boundary
-        reduced_loads = T.T @ _compliance_loads(model, b)
-        reduced_springs = np.zeros(T.shape[1])
+        b, reduced_loads = reduction.boundary, reduction.compliance_loads
+        reduced_springs = np.zeros(reduction.size)
         reduced_springs[:b.size] = _linearized_contact(model, k_t)
         K_red = reduction.stiffness + np.diag(reduced_springs)
         matrix = K_red * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * reduction.mass
@@ -354,7 +406,7 @@ class ReducedRun(ImplicitRun):
         reduction = reduced(model, cutoff)
         self.reduction_time = time.perf_counter() - start
         self.reduction = reduction
-        super().__init__(scene, model, reduction.system(model), name="reduced")
+        super().__init__(scene, model, reduction.system(), name="reduced")
         start = time.perf_counter()
         self.error = compliance_error(model, reduction, scene)
         self.error_time = time.perf_counter() - start

@@ -18,9 +18,16 @@ sweep on one body, would build the same again. This module keeps them in
                           forces and patch, keyed by a digest of everything it is solved
                           from (K, the load, the candidates, their springs, shares and
                           gaps, k_t, F_N, the elimination order)
-    reduction-<key>.npz   reduction.Reduction's arrays: keyed by the model's content
+    reduction-<key>.npz   reduction.Reduction's small arrays (the reduced matrices, the
+                          boundary, the drive's and the compliance loads' projections)
+                          and its basis's SHA-256: keyed by the model's content
                           (reduction.model_key), the cutoff, numpy's, scipy's and
                           the package's versions
+    basis-<key>.npy       the reduction's basis T (dofs x size, dense: 0.7 GB on a 47k
+                          DOF ball), same key: a plain .npy file, mapped into memory
+                          and checked against that SHA-256 only when a run first
+                          expands a state into the whole field (its frames, its last
+                          fields): the steps need only the small arrays
     compliance-<key>.npz  the full model's dynamic compliance at one frequency, for the
                           reduction's error estimate (reduction.compliance_error):
                           keyed by the model's content, k_t, the frequency and the
@@ -35,8 +42,8 @@ once build it once. The body's entry holds its cells too, from which the
 ParaView frames are written (outputs/paraview.py): a run from the cache never loads
 DOLFINx, gmsh or MPI.
 
-The values are the computed arrays stored bit for bit (.npz of float64): a
-run gives the same results with or without the cache.
+The values are the computed arrays stored bit for bit (.npz of float64, the basis
+a .npy): a run gives the same results with or without the cache.
 VIBROFRIC_MODEL_CACHE=0 turns it off.
 """
 
@@ -57,8 +64,8 @@ from . import dolfinx_adapter
 from .assembly import Discretization, assemble_body
 
 FORMAT = 4   # the entries' layout: a change here makes every entry anew
-# Entries of each kind kept: the most recently used (a reduction of the "fine" mesh
-# holds its dense basis, ~270 MB; the "coarse" one's ~0.6 MB).
+# Entries of each kind kept: the most recently used (the basis of the "fine" block's
+# reduction ~270 MB, the "coarse" one's ~0.6 MB).
 KEPT_ENTRIES = 12
 
 
@@ -104,6 +111,38 @@ def cached(kind: str, parts: dict, build) -> dict:
     else:
         disk_cache.prune(path.parent, f"{kind}-*.npz", KEPT_ENTRIES)
     return arrays
+
+
+def array_file(kind: str, parts: dict):
+    """The .npy file of the large array of ``kind`` computed from ``parts``."""
+    return entry_path(kind, parts).with_suffix(".npy")
+
+
+def store_array(kind: str, parts: dict, array: np.ndarray) -> str:
+    """Keep ``array`` as the file array_file(kind, parts) (where the cache is on and can
+    be written); its SHA-256 (the cache off: ""), which the entry naming it holds
+    (mapped_array checks it)."""
+    if not enabled():
+        return ""
+    path = array_file(kind, parts)
+    try:
+        disk_cache.write_array_file(path, array)
+    except OSError:
+        pass                        # passed by, as an entry that cannot be written
+    disk_cache.prune(path.parent, f"{kind}-*.npy", KEPT_ENTRIES)
+    return disk_cache.array_digest(array)
+
+
+def mapped_array(kind: str, parts: dict, digest: str, shape: tuple):
+    """The array store_array kept (mapped read-only), or None: the cache off, the file
+    pruned or damaged (then removed)."""
+    if not enabled():
+        return None
+    path = array_file(kind, parts)
+    array = disk_cache.mapped_array(path, digest, shape)
+    if array is not None:
+        _touch(path)
+    return array
 
 
 def _touch(path) -> None:
