@@ -143,6 +143,28 @@ def test_the_load_shapes_only_the_levels_that_resolve_the_patch(cache):
     assert len(coarse) == 1 and len(fine) == 2
 
 
+def test_a_changed_refinement_table_is_a_new_mesh_and_leaves_the_block_alone(tmp_path,
+                                                                           monkeypatch):
+    """The tables of meshes/refinement.py decide a meshed body's sizes: they are part of
+    its cache key, so a changed table meshes anew rather than reading the cached mesh of
+    the old one. The block's counts are its own (block.LEVELS): its file is the same."""
+    ball, puck = shape_body("ball"), scene_module.load(EXAMPLES / "puck.toml").body
+    block = scene_module.load("scenes/longitudinal.toml").body
+
+    def paths():
+        return [meshes.body_mesh(body, "tiny", cache_dir=tmp_path).path
+                for body in (ball, puck, block)]
+
+    before = paths()
+    monkeypatch.setitem(refinement.BODY_DIVISIONS, "tiny", 2)
+    after = paths()
+    assert after[0] != before[0] and after[1] != before[1]   # the shape, a .geo
+    assert after[2] == before[2]                                # the block
+    # and the new mesh is the new table's: edges half as long away from the contact
+    assert len(read(meshes.body_mesh(ball, "tiny", cache_dir=tmp_path))[0].points) > len(
+        meshio.read(before[0]).points)
+
+
 def test_the_block_is_the_same_file_as_ever(cache):
     scene = scene_module.load("scenes/longitudinal.toml")
     mesh = meshes.body_mesh(scene.body, "coarse", cache_dir=cache)
