@@ -165,6 +165,37 @@ def test_a_changed_refinement_table_is_a_new_mesh_and_leaves_the_block_alone(tmp
         meshio.read(before[0]).points)
 
 
+def test_a_results_directory_holds_its_body_file_and_the_files_it_names(tmp_path):
+    """A user's .geo, and the file it includes, are copied into the results directory
+    and named there (output.write_scene_and_inputs): moved elsewhere, the originals gone,
+    its scene.toml meshes the same body (the cache key of the same content) and answers
+    the same."""
+    import shutil
+
+    from vibrofric.api import run_analytic
+
+    part = tmp_path / "part"
+    part.mkdir()
+    geo = (EXAMPLES / "puck.geo").read_text()
+    sizes = "R = 0.02;    // m, radius\nH = 0.01;    // m, height\n"
+    assert sizes in geo
+    (part / "sizes.geo").write_text(sizes)
+    (part / "puck.geo").write_text(geo.replace(sizes, 'Include "sizes.geo";\n'))
+    (part / "puck.toml").write_text((EXAMPLES / "puck.toml").read_text())
+    scene = scene_module.load(part / "puck.toml").with_values({"time.T": 0.3})
+    first = run_analytic(scene, out=tmp_path / "results")
+    key = meshes.body_mesh(scene.body, "coarse", cache_dir=tmp_path / "meshes").key
+
+    moved = tmp_path / "elsewhere"
+    shutil.move(tmp_path / "results", moved)
+    shutil.rmtree(part)
+    assert sorted(p.name for p in moved.glob("*.geo")) == ["puck.geo", "sizes.geo"]
+    again = scene_module.load(moved / "scene.toml")
+    assert again.body.mesh == str(moved / "puck.geo")
+    assert meshes.body_mesh(again.body, "coarse", cache_dir=tmp_path / "meshes").key == key
+    assert run_analytic(again).F_dv_over_F_d0 == first.F_dv_over_F_d0
+
+
 def test_the_block_is_the_same_file_as_ever(cache):
     scene = scene_module.load("scenes/longitudinal.toml")
     mesh = meshes.body_mesh(scene.body, "coarse", cache_dir=cache)
