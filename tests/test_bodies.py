@@ -464,8 +464,9 @@ def test_a_bad_body_on_the_command_line_is_one_line_exit_2_nothing_written(tmp_p
 
 @pytest.mark.slow   # the pin's model and its stable step: 33 s here, loaded
 def test_the_explicit_fe_run_refuses_the_pin_s_step_before_any_work(tmp_path, capsys):
-    """The pin's explicit stable step (3.8e-9 s at "coarse": its stiff contact and small
-    tetrahedra) is far below the scene's 1e-6 s: one line naming time.dt, nothing written."""
+    """The pin's explicit stable step (2.7e-8 s at "coarse": its small tetrahedra and
+    its flat end's penalty) is far below the scene's 1e-6 s: one line naming time.dt and
+    the integrators without that bound, nothing written."""
     from vibrofric.cli import EXIT_BAD_INPUT, main
 
     out = tmp_path / "never"
@@ -474,6 +475,7 @@ def test_the_explicit_fe_run_refuses_the_pin_s_step_before_any_work(tmp_path, ca
            if line.startswith("vibrofric:") and "compiling" not in line]
     assert code == EXIT_BAD_INPUT and not out.exists()
     assert len(err) == 1 and "time.dt" in err[0] and "stable step" in err[0]
+    assert 'fem.integrator = "reduced"' in err[0]
 
 
 def test_meshing_a_body_leaves_a_callers_gmsh_options_as_they_were(tmp_path):
