@@ -293,3 +293,25 @@ def test_the_examples_motion_file_is_the_papers_sine(load_scene):
     assert np.allclose(t[:-1, 1], paper.u0 * np.sin(paper.omega * t[:-1, 0]), rtol=0,
                        atol=1e-15 * paper.u0)
     assert math.isclose(t[-1, 0] * paper.vibration.f, 1.0, rel_tol=1e-12)
+
+
+def test_a_results_directory_reruns_moved_elsewhere_with_its_motion_file(load_scene, tmp_path):
+    """scene.toml in a results directory names its measured motion beside it
+    (output.write_scene_and_inputs), not where it was: the directory, moved and the
+    original file gone, reruns to the same answer, bit for bit."""
+    import shutil
+
+    from vibrofric.api import run_analytic
+
+    (tmp_path / "measurements").mkdir()
+    original = _sine_csv(tmp_path / "measurements" / "sine.csv", load_scene("longitudinal"))
+    first = run_analytic(_measured(load_scene, original), out=tmp_path / "results")
+    written = scene_module.load(tmp_path / "results" / "scene.toml")
+    assert written.vibration.motion == str(tmp_path / "results" / "base_motion.csv")
+    assert 'motion = "base_motion.csv"' in (tmp_path / "results" / "scene.toml").read_text()
+
+    moved = tmp_path / "elsewhere" / "results"
+    shutil.move(tmp_path / "results", moved)
+    shutil.rmtree(tmp_path / "measurements")
+    again = run_analytic(scene_module.load(moved / "scene.toml"))
+    assert again.F_dv_over_F_d0 == first.F_dv_over_F_d0

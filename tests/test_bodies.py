@@ -143,6 +143,59 @@ def test_the_load_shapes_only_the_levels_that_resolve_the_patch(cache):
     assert len(coarse) == 1 and len(fine) == 2
 
 
+def test_a_changed_refinement_table_is_a_new_mesh_and_leaves_the_block_alone(tmp_path,
+                                                                           monkeypatch):
+    """The tables of meshes/refinement.py decide a meshed body's sizes: they are part of
+    its cache key, so a changed table meshes anew rather than reading the cached mesh of
+    the old one. The block's counts are its own (block.LEVELS): its file is the same."""
+    ball, puck = shape_body("ball"), scene_module.load(EXAMPLES / "puck.toml").body
+    block = scene_module.load("scenes/longitudinal.toml").body
+
+    def paths():
+        return [meshes.body_mesh(body, "tiny", cache_dir=tmp_path).path
+                for body in (ball, puck, block)]
+
+    before = paths()
+    monkeypatch.setitem(refinement.BODY_DIVISIONS, "tiny", 2)
+    after = paths()
+    assert after[0] != before[0] and after[1] != before[1]   # the shape, a .geo
+    assert after[2] == before[2]                                # the block
+    # and the new mesh is the new table's: edges half as long away from the contact
+    assert len(read(meshes.body_mesh(ball, "tiny", cache_dir=tmp_path))[0].points) > len(
+        meshio.read(before[0]).points)
+
+
+def test_a_results_directory_holds_its_body_file_and_the_files_it_names(tmp_path):
+    """A user's .geo, and the file it includes, are copied into the results directory
+    and named there (output.write_scene_and_inputs): moved elsewhere, the originals gone,
+    its scene.toml meshes the same body (the cache key of the same content) and answers
+    the same."""
+    import shutil
+
+    from vibrofric.api import run_analytic
+
+    part = tmp_path / "part"
+    part.mkdir()
+    geo = (EXAMPLES / "puck.geo").read_text()
+    sizes = "R = 0.02;    // m, radius\nH = 0.01;    // m, height\n"
+    assert sizes in geo
+    (part / "sizes.geo").write_text(sizes)
+    (part / "puck.geo").write_text(geo.replace(sizes, 'Include "sizes.geo";\n'))
+    (part / "puck.toml").write_text((EXAMPLES / "puck.toml").read_text())
+    scene = scene_module.load(part / "puck.toml").with_values({"time.T": 0.3})
+    first = run_analytic(scene, out=tmp_path / "results")
+    key = meshes.body_mesh(scene.body, "coarse", cache_dir=tmp_path / "meshes").key
+
+    moved = tmp_path / "elsewhere"
+    shutil.move(tmp_path / "results", moved)
+    shutil.rmtree(part)
+    assert sorted(p.name for p in moved.glob("*.geo")) == ["puck.geo", "sizes.geo"]
+    again = scene_module.load(moved / "scene.toml")
+    assert again.body.mesh == str(moved / "puck.geo")
+    assert meshes.body_mesh(again.body, "coarse", cache_dir=tmp_path / "meshes").key == key
+    assert run_analytic(again).F_dv_over_F_d0 == first.F_dv_over_F_d0
+
+
 def test_the_block_is_the_same_file_as_ever(cache):
     scene = scene_module.load("scenes/longitudinal.toml")
     mesh = meshes.body_mesh(scene.body, "coarse", cache_dir=cache)
@@ -411,8 +464,9 @@ def test_a_bad_body_on_the_command_line_is_one_line_exit_2_nothing_written(tmp_p
 
 @pytest.mark.slow   # the pin's model and its stable step: 33 s here, loaded
 def test_the_explicit_fe_run_refuses_the_pin_s_step_before_any_work(tmp_path, capsys):
-    """The pin's explicit stable step (3.8e-9 s at "coarse": its stiff contact and small
-    tetrahedra) is far below the scene's 1e-6 s: one line naming time.dt, nothing written."""
+    """The pin's explicit stable step (2.7e-8 s at "coarse": its small tetrahedra and
+    its flat end's penalty) is far below the scene's 1e-6 s: one line naming time.dt and
+    the integrators without that bound, nothing written."""
     from vibrofric.cli import EXIT_BAD_INPUT, main
 
     out = tmp_path / "never"
@@ -421,6 +475,7 @@ def test_the_explicit_fe_run_refuses_the_pin_s_step_before_any_work(tmp_path, ca
            if line.startswith("vibrofric:") and "compiling" not in line]
     assert code == EXIT_BAD_INPUT and not out.exists()
     assert len(err) == 1 and "time.dt" in err[0] and "stable step" in err[0]
+    assert 'fem.integrator = "reduced"' in err[0]
 
 
 def test_meshing_a_body_leaves_a_callers_gmsh_options_as_they_were(tmp_path):

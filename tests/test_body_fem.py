@@ -14,6 +14,7 @@ from conftest import model_at_rest  # noqa: E402
 from hemisphere import ball_model, hemisphere, hertz, hertz_fit  # noqa: E402
 
 from vibrofric import scene as scenes  # noqa: E402
+from vibrofric.api import scene_names  # noqa: E402
 from vibrofric.core.errors import (DriveHasNoAttachment, DriveTipsBlock,  # noqa: E402
                                    NormalLoadTooSmall)
 from vibrofric.fem.model import fe_model  # noqa: E402
@@ -369,3 +370,49 @@ def test_the_condensed_patch_iteration_finds_the_whole_systems_patch(monkeypatch
     assert 0 < condensed[2].sum() < model.contact_nodes.size     # the patch did shrink
     assert np.array_equal(condensed[2], whole[2])
     assert np.abs(condensed[0] - whole[0]).max() <= 1e-9 * np.abs(whole[0]).max()
+
+
+# every scene that ships (api.scene_names); the pin's model and reduction: 17 s here, loaded
+SHIPPED = [pytest.param(name, marks=pytest.mark.slow) if name == "pin" else name
+           for name in scene_names()]
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_every_shipped_scene_is_taken_by_its_own_integrator(name):
+    """Each shipped scene as it ships (`vibrofric run NAME`): read and validated, taken by
+    the FE model (check_fe_scene), and its integrator prepared at the step the run takes,
+    without a step run: the explicit stable step's check, or the implicit ones'
+    contraction bound and the reduction. The ball and the pin name the reduced
+    integrator, whose step the explicit stable step (nanoseconds on them) does not bound."""
+    from vibrofric.fem.integrators import periodic, registry
+
+    scene = scenes.load(f"scenes/{name}.toml")
+    scenes.check_fe_scene(scene)
+    model = model_at_rest(scene)
+    shot = scene
+    if scene.time.method != "transient" and scene.vibrated:
+        shot, _ = periodic.periodic_scene(scene)    # the step the steady cycle is shot at
+    run = registry.select(shot)(shot, model)
+    assert run.name == scene.fem.integrator
+
+
+@pytest.mark.slow   # two runs of the coarse ball and their estimates: 29 s here, loaded
+def test_the_shipped_ball_answers_as_shipped_within_its_stated_error():
+    """`vibrofric run ball` as shipped (the reduced model at its time.dt, the steady
+    cycle) answers with a step-error estimate that meets time.accuracy; the answer at
+    another step (1.25 x time.dt) lies within that estimate of it (measured: 0.2755 +-
+    0.0009 at 2e-6 s, 0.2751 at 2.5e-6 s, 0.2763 at 5e-6 s; the explicit steady cycle at
+    4.5e-9 s, the reference, 0.2747: docs/validation.md); and the ball's compliance,
+    in series with its contact's, puts it below the rigid lumped body on the law's k_t
+    (0.4006), by more than the estimate."""
+    from vibrofric.api import load_scene, run_fe
+
+    shipped_ball_settles()
+    scene = load_scene("ball")
+    answer = run_fe(scene)
+    assert answer.error_estimate is not None and answer.error_estimate <= scene.time.accuracy
+    other = run_fe(scene.with_values({"time.dt": 1.25 * scene.time.dt,
+                                      "time.error_estimate": False}))
+    assert abs(other.F_dv_over_F_d0 - answer.F_dv_over_F_d0) <= answer.error_estimate
+    rigid = answer.analytic.F_dv_over_F_d0     # the lumped model beside it, at k_t
+    assert answer.F_dv_over_F_d0 < rigid - 10 * answer.error_estimate

@@ -270,7 +270,7 @@ def run_analytic(scene: "Scene", out: str | Path | None = None, *, stepper: str 
 
         rows = written(series, scene, full_series)
         with output.staged(target, "analytic", claimed=False) as stage:
-            output.write_scene(stage, scene)
+            output.write_scene_and_inputs(stage, scene)
             output.write_summary(stage, {"analytic": summary, "stepper": stepper})
             output.write_timeseries(stage, rows)
             plots.drive_force_history({stepper: rows}, scene, stage / "drive_force.png",

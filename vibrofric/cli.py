@@ -240,7 +240,7 @@ def cmd_analytic(args) -> None:
         with output.staged(target, "analytic", claimed=claim) as stage:
             with plotter.drawing(plots_job({args.stepper: series}, scene, stage,
                                            steady=steady_labels({args.stepper: summary}))):
-                output.write_scene(stage, scene)
+                output.write_scene_and_inputs(stage, scene)
                 output.write_summary(stage, {"analytic": summary, "stepper": args.stepper})
                 output.write_timeseries(stage, series)
     _warn_unsettled(summary)

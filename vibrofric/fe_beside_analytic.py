@@ -149,10 +149,10 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
 
 
 def write_beside(directory, scene, done: FEBesideAnalytic, full_series: bool = False) -> None:
-    """Write run_beside's ``done`` into ``directory``: scene.toml, timeseries.csv (FE) and
-    analytic_timeseries.csv, with the rows core.series.written() names, or with
-    ``full_series`` every kept row."""
-    output.write_scene(directory, scene)
+    """Write run_beside's ``done`` into ``directory``: scene.toml (with the files it reads:
+    output.write_scene_and_inputs), timeseries.csv (FE) and analytic_timeseries.csv, with
+    the rows core.series.written() names, or with ``full_series`` every kept row."""
+    output.write_scene_and_inputs(directory, scene)
     output.write_timeseries(directory, written(done.fe.series, scene, full_series))
     output.write_timeseries(directory, written(done.analytic_series, scene, full_series),
                             "analytic_timeseries.csv")

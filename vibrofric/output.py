@@ -372,6 +372,46 @@ def write_scene(directory: Path, scene) -> None:
         partial.write_text(scene_module.to_toml(scene))
 
 
+def write_scene_and_inputs(directory: Path, scene) -> None:
+    """``scene.toml`` as write_scene writes it, with the files the scene reads copied
+    beside it and named there relatively (scene.load reads a file named relative to its
+    scene file): the directory reruns on another machine. The files:
+
+        vibration.motion   the measured base motion, as base_motion<suffix>
+        body.mesh          the body's mesh or geometry file under its own name, and the
+                           files a .geo names beside it (meshes/user_mesh.py named_files)
+                           under theirs; one named by an absolute path or out of its
+                           folder (..) stays where it is, named as the .geo names it
+
+    Copied byte for byte: the rerun's mesh cache key and base motion are the run's.
+    (A sweep's scene.toml keeps absolute names: a sweep resumes by comparing its scene.)
+    """
+    import tomli_w
+
+    from . import scene as scene_module   # (see write_scene)
+
+    raw = scene_module.to_dict(scene)
+    motion = raw["vibration"].get("motion")
+    if motion is not None:
+        name = "base_motion" + Path(motion).suffix
+        shutil.copyfile(motion, Path(directory) / name)
+        raw["vibration"]["motion"] = name
+    mesh = raw["body"].get("mesh")
+    if mesh is not None:
+        from .meshes.user_mesh import named_files
+
+        source = Path(mesh)
+        for name, other in named_files(source):
+            if Path(name).is_absolute() or ".." in Path(name).parts:
+                continue
+            (Path(directory) / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(other, Path(directory) / name)
+        shutil.copyfile(source, Path(directory) / source.name)
+        raw["body"]["mesh"] = source.name
+    with staged_file(Path(directory) / "scene.toml") as partial:
+        partial.write_text(tomli_w.dumps(raw))
+
+
 CHECKS = "checks.json"  # in a sweep's point: {file: {"bytes": n, "sha256": hex}} of the others
 
 

@@ -47,8 +47,9 @@ METHODS = ("periodic", "transient")
 # Every shipped scene (vibrofric/scenes), run as it is but a few cycles long, through the
 # FE integrators by both methods, alone and as a sweep's point: its own block (the 2 kg
 # one of coupled and transverse: its FE model built and cached) and its own motion. (The
-# ball's and the pin's through the lumped model alone: their FE runs need other steps and
-# integrators (docs/your-own-body.md), whose loops the block's runs compile.)
+# ball's and the pin's through the lumped model alone: their FE models are not built
+# here (the pin's, with its reduction, ~40 s), and the reduced loops they run are
+# those the block's runs compile.)
 SCENE_FILES = Path(__file__).resolve().parent / "scenes"
 SHIPPED = ("ball", "coupled", "longitudinal", "pin", "transverse")
 SHORT = {"time.T": 0.004, "vibration.t_on": 0.001, "time.average_cycles": 4,

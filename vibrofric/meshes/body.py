@@ -95,7 +95,8 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
         source = user_mesh.source_path(body.mesh, scene_dir)
         what = f"body.mesh {source.name}"
         kind = source.suffix.lower().lstrip(".")
-        level_part = "" if kind == "msh" else level   # a .msh is read as it is
+        # a .msh is read as it is; anything else is meshed at the level's sizes
+        level_part = "" if kind == "msh" else refinement.level_key(level)
         meshed_by = "" if kind == "msh" else _gmsh_version()  # another gmsh meshes otherwise
         content = f"{kind} {user_mesh.content_hash(source)} {level_part} {meshed_by}"
         stem = f"{source.stem}_{kind}"
@@ -106,7 +107,7 @@ def body_mesh(body, level: str, scene_dir=None, cache_dir=None, normal_load=None
         if level not in refinement.PATCH_ELEMENTS or shapes.patch_radius(body, normal_load) is None:
             normal_load = None
         content = f"{body.shape} {sorted(shapes.dimensions(body).items())} {body.E!r} {body.nu!r} " \
-                  f"{normal_load!r} {level} {_gmsh_version()}"
+                  f"{normal_load!r} {refinement.level_key(level)} {_gmsh_version()}"
         stem = body.shape
     folder = Path(cache_dir) if cache_dir is not None else block.default_cache_dir()
     name = f"{stem}_{hashlib.sha256(content.encode()).hexdigest()[:16]}_{_FORMAT}"

@@ -31,6 +31,16 @@ PATCH_ELEMENTS = {"fine": 5, "finer": 10}
 GRADING = 0.25
 
 
+def level_key(level: str) -> str:
+    """``level`` and what the tables above make of it, for a meshed body's cache key
+    (meshes/body.py): a changed table gives a new mesh, not the cached one. A level the
+    tables do not hold (a .geo that meshes itself may be given any) is itself alone."""
+    if level not in BODY_DIVISIONS:
+        return str(level)
+    return (f"{level} divisions {BODY_DIVISIONS[level]}/{CONTACT_DIVISIONS[level]} "
+            f"patch {PATCH_ELEMENTS.get(level)} grading {GRADING!r}")
+
+
 def check_level(level: str) -> str:
     """The level, or ValueError naming it: a free mesh takes the named levels only
     (explicit element counts "NXxNYxNZ" are the block's)."""

@@ -47,15 +47,22 @@ def source_path(mesh, scene_dir=None) -> Path:
     return path.resolve()
 
 
+def named_files(path: Path) -> list:
+    """The files a .geo names in quotes (Merge "part.step", Include "common.geo") that
+    exist beside it, as (name as written, path), sorted by name; none for other kinds."""
+    if path.suffix.lower() != ".geo":
+        return []
+    names = sorted(set(re.findall(r'"([^"\n]+)"', path.read_text(errors="replace"))))
+    return [(name, path.parent / name) for name in names
+            if (path.parent / name).is_file() and path.parent / name != path]
+
+
 def content_hash(path: Path) -> str:
-    """SHA-256 of the file, and of the files a .geo names in quotes (Merge "part.step",
-    Include "common.geo") that exist beside it: what its mesh is made of."""
+    """SHA-256 of the file, and of the files it names (``named_files``): what its mesh is
+    made of."""
     digest = hashlib.sha256(path.read_bytes())
-    if path.suffix.lower() == ".geo":
-        for name in sorted(set(re.findall(r'"([^"\n]+)"', path.read_text(errors="replace")))):
-            other = path.parent / name
-            if other.is_file() and other != path:
-                digest.update(name.encode() + other.read_bytes())
+    for name, other in named_files(path):
+        digest.update(name.encode() + other.read_bytes())
     return digest.hexdigest()
 
 

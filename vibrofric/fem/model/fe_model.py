@@ -360,10 +360,14 @@ def initial_gap(coordinates: np.ndarray, contact_nodes: np.ndarray) -> np.ndarra
 
 
 def check_step(scene, model: FEModel) -> None:
-    """Refuse a time.dt above the stable step."""
+    """Refuse a time.dt above the explicit stable step, naming the ways out: a step below
+    it, or an integrator without one (fem/integrators: implicit and reduced take any
+    step that resolves the vibration)."""
     if scene.time.dt > model.dt_stable:
         raise StepTooLong(f"time step {scene.time.dt:g} s is above the explicit stable step "
-                                    f"{model.dt_stable:.4g} s of mesh {scene.fem.mesh!r} "
-                                    f"(highest frequency {model.omega_max / (2 * math.pi):.4g} Hz, "
-                                    f"damping {model.beta:.3g} s): use time.dt <= "
-                                    f"{model.dt_stable:.4g}, a coarser fem.mesh or less fem.damping")
+                          f"{model.dt_stable:.4g} s of mesh {scene.fem.mesh!r} "
+                          f"(highest frequency {model.omega_max / (2 * math.pi):.4g} Hz, "
+                          f"damping {model.beta:.3g} s): use time.dt <= "
+                          f"{model.dt_stable:.4g}, a coarser fem.mesh or less fem.damping, "
+                          'or fem.integrator = "reduced" or "implicit", whose step '
+                          "has no such bound")
