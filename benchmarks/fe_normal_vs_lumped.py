@@ -30,6 +30,11 @@ Losing contact, two things decide which orbit each model settles on (docs/valida
                   penalty dashpot beta k_pen,i then sums to the lumped one (the FE
                   default's damping ratio is ~3e-3, the lumped default 0.02)
     --zeta-n      contact.zeta_n, the lumped contact's damping ratio (0.02)
+    --hold        the FE block held as the lumped body is: drive.attach = "load-group",
+                  drive.holder = "translating" (the drive and load at its top face, which
+                  moves as one rigid translation: fem/model/holder.py), so that it
+                  cannot pitch or rock; the lumped side is unchanged (it has no
+                  attachment point and no rotation)
 
 The vibration starts at the scene's t_on (0.14 s of sliding). The FE model answers
 by its steady cycle (time.method auto: the shooting of integrators/periodic.py, or
@@ -43,7 +48,7 @@ T, both averaging the last 20 cycles. (Stepped for 60 cycles from 5 ms of slidin
     .venv/bin/python benchmarks/fe_normal_vs_lumped.py [--mesh coarse] [--cycles 800]
         [--stiffer 100] [--steps-per-cycle 200] [--lumped-dt 5e-7]
         [--block paper|low] [--contact-damping fe|lumped] [--zeta-n 0.02]
-        [--lumped-only]
+        [--lumped-only] [--hold]
         (docs/validation.md's tables: --stiffer 10 --block low --contact-damping
         lumped [--zeta-n 0.05], with and without --levels ... --kv 6; its scan of
         the lumped orbits: --levels 1.0,1.002,...,1.03 --kv 6 --lumped-only)
@@ -71,6 +76,9 @@ from vibrofric.fem.simulate import answer_ratio
 STIFFER = 100.0
 BLOCKS = {"paper": (0.03, 0.04, 0.053), "low": (0.06, 0.08, 0.005)}   # body.size (m)
 AVERAGED = 20
+# The FE block held as the lumped body is (--hold): pulled and pressed at its top face,
+# which translates without turning (fem/model/holder.py).
+HELD = {"drive.attach": "load-group", "drive.holder": "translating"}
 CASES = (("no normal motion", 0.0, None, 6.0, {}),
          ("in contact", 0.45, None, 6.0, {}),
          ("elliptical", 0.45, 90.0, 6.0, {}),
@@ -131,6 +139,8 @@ def main() -> None:
     parser.add_argument("--block", default="paper", choices=tuple(BLOCKS))
     parser.add_argument("--contact-damping", default="fe", choices=("fe", "lumped"))
     parser.add_argument("--zeta-n", type=float, default=None, help="contact.zeta_n")
+    parser.add_argument("--hold", action="store_true",
+                        help="FE: drive.attach = load-group, drive.holder = translating")
     parser.add_argument("--lumped-only", action="store_true",
                         help="the lumped model's columns alone (a fine scan of --levels)")
     args = parser.parse_args()
@@ -143,7 +153,9 @@ def main() -> None:
         posed["contact.zeta_n"] = args.zeta_n
     probe = stiff_scene(args.mesh, args.cycles, args.stiffer, **posed)
     a_th = threshold(probe)
-    print(f"Block {list(probe.body.size)} m (E x {args.stiffer:g}), fem.damping "
+    held = HELD if args.hold else {}
+    print(f"Block {list(probe.body.size)} m (E x {args.stiffer:g}"
+          f"{', held at its top face' if args.hold else ''}), fem.damping "
           f"{probe.fem.damping:.4g} s (0: its default), contact.zeta_n "
           f"{probe.contact.zeta_n:g}, fem.penalty {probe.fem.penalty:.4g} N/m, "
           f"contact.k_n {probe.normal_stiffness:.4g} N/m, A_th = {a_th:.3g} m; mesh {args.mesh}, "
@@ -173,7 +185,8 @@ def main() -> None:
                   f"| {lumped['normal_force_min']:.3g}-{lumped['normal_force_max']:.3g} |", flush=True)
             continue
         fe_scene = lumped_scene.with_values(
-            {"time.dt": fe_step(args, lumped_scene.vibration.f), "fem.integrator": args.integrator})
+            {"time.dt": fe_step(args, lumped_scene.vibration.f), "fem.integrator": args.integrator,
+             **held})
         start = time.perf_counter()
         try:
             result = run_fe(fe_scene)
