@@ -89,7 +89,7 @@ def main() -> None:
     parser.add_argument("--stiffer", type=float, default=10.0)
     parser.add_argument("--steps-per-cycle", type=int, default=200)
     parser.add_argument("--block", default="low", choices=tuple(comparison.BLOCKS))
-    parser.add_argument("--contact-damping", default="lumped", choices=("fe", "lumped"))
+    parser.add_argument("--contact-damping", default="lumped", choices=("fe", "lumped", "modal"))
     parser.add_argument("--levels", default="1.0,1.006,1.02")
     parser.add_argument("--kv", type=float, default=6.0)
     parser.add_argument("--modes", type=int, default=12)
