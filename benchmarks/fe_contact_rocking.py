@@ -11,6 +11,9 @@ by a translating holder, which takes the rotations out). Two measurements:
           against its bounce mode. On a block as low as it is long (I ~ m L^2 / 12, the
           rotational stiffness k_pen L^2 / 12) rocking and bounce are nearly in 1:1
           resonance, so a face that opens and lands unevenly feeds rocking from the bounce.
+          Held (--hold), the holder's ties take the rigid rotations: the mode found
+          carrying most of one is then the block's sway on its tangential springs
+          (2.0 kHz on the paper's block), not a rocking.
   split   at each ``--levels`` fraction of A_th, the FE run's contact force's first
           moments over the face, sum_i N_i (x_i - x_c) / (L_x / 2) (front/back) and
           sum_i N_i (y_i - y_c) / (L_y / 2) (left/right), in N: the force an edge carries
