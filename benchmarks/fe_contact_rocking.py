@@ -2,7 +2,8 @@
 moving along Z"): what the lumped body, one normal degree of freedom, lacks.
 
 The block and its posing are benchmarks/fe_normal_vs_lumped.py's (``--block``,
-``--contact-damping``, ``--zeta-n``, E x ``--stiffer``). Two measurements:
+``--contact-damping``, ``--zeta-n``, E x ``--stiffer``; ``--hold``: held at its top face
+by a translating holder, which takes the rotations out). Two measurements:
 
   modes   the block's rocking modes on its penalty springs (about Y: front/back, about
           X: left/right; the modes carrying most of each rigid rotation about the
@@ -10,6 +11,9 @@ The block and its posing are benchmarks/fe_normal_vs_lumped.py's (``--block``,
           against its bounce mode. On a block as low as it is long (I ~ m L^2 / 12, the
           rotational stiffness k_pen L^2 / 12) rocking and bounce are nearly in 1:1
           resonance, so a face that opens and lands unevenly feeds rocking from the bounce.
+          Held (--hold), the holder's ties take the rigid rotations: the mode found
+          carrying most of one is then the block's sway on its tangential springs
+          (2.0 kHz on the paper's block), not a rocking.
   split   at each ``--levels`` fraction of A_th, the FE run's contact force's first
           moments over the face, sum_i N_i (x_i - x_c) / (L_x / 2) (front/back) and
           sum_i N_i (y_i - y_c) / (L_y / 2) (left/right), in N: the force an edge carries
@@ -19,7 +23,7 @@ The block and its posing are benchmarks/fe_normal_vs_lumped.py's (``--block``,
 
     .venv/bin/python benchmarks/fe_contact_rocking.py --stiffer 10 --block low
         --contact-damping lumped --levels 1.0,1.006,1.02 [--kv 6] [--zeta-n 0.05]
-        [--modes 12]
+        [--modes 12] [--hold]
 """
 
 import argparse
@@ -88,18 +92,22 @@ def main() -> None:
     parser.add_argument("--stiffer", type=float, default=10.0)
     parser.add_argument("--steps-per-cycle", type=int, default=200)
     parser.add_argument("--block", default="low", choices=tuple(comparison.BLOCKS))
-    parser.add_argument("--contact-damping", default="lumped", choices=("fe", "lumped"))
+    parser.add_argument("--contact-damping", default="lumped", choices=("fe", "lumped", "modal"))
     parser.add_argument("--levels", default="1.0,1.006,1.02")
     parser.add_argument("--kv", type=float, default=6.0)
     parser.add_argument("--modes", type=int, default=12)
     parser.add_argument("--zeta-n", type=float, default=None, help="contact.zeta_n")
+    parser.add_argument("--hold", action="store_true",
+                        help="FE: drive.attach = load-group, drive.holder = translating")
     args = parser.parse_args()
     posed = {"block": args.block, "damping": args.contact_damping}
     if args.zeta_n is not None:
         posed["contact.zeta_n"] = args.zeta_n
-    probe = comparison.stiff_scene(args.mesh, args.cycles, args.stiffer, **posed)
+    held = comparison.HELD if args.hold else {}
+    probe = comparison.stiff_scene(args.mesh, args.cycles, args.stiffer, **posed).with_values(held)
     a_th = comparison.threshold(probe)
-    print(f"Block {list(probe.body.size)} m (E x {args.stiffer:g}), fem.damping "
+    print(f"Block {list(probe.body.size)} m (E x {args.stiffer:g}"
+          f"{', held at its top face' if args.hold else ''}), fem.damping "
           f"{probe.fem.damping:.4g} s, k_v = {args.kv:g}, A_th = {a_th:.4g} m; mesh {args.mesh}, "
           f"reduced at {args.steps_per_cycle} steps a cycle, T = t_on + {args.cycles} cycles")
     print(rocking_modes(probe, args.modes))
@@ -114,7 +122,8 @@ def main() -> None:
                 "time.dt": 5e-7}
         scene = comparison.stiff_scene(args.mesh, args.cycles, args.stiffer, **posed, **keys)
         _, lumped = solve(scene.with_values({"time.method": "transient"}))
-        fe_scene = scene.with_values({"time.dt": 1.0 / (args.steps_per_cycle * scene.vibration.f)})
+        fe_scene = scene.with_values({"time.dt": 1.0 / (args.steps_per_cycle * scene.vibration.f),
+                                      **held})
         result = run_fe(fe_scene)
         fe = answer_ratio(result, fe_scene)
         s = split(result.fields["coordinates"], result.fields["contact_nodes"])

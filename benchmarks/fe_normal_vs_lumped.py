@@ -18,7 +18,8 @@ amplitude at which the forced normal-force swing m w^2 A_n / (1 - r^2) reaches F
     contact lost A_n = 1.012 A_th, k_v = 6 (the lumped body out of contact for 9% of
                  its cycle; 1.7e-7 m on the paper's block: tests/test_normal.py)
 
-Losing contact, two things decide which orbit each model settles on (docs/validation.md):
+Losing contact, the block's pitching and its contact's damping decide which orbit each
+model settles on (docs/validation.md):
 
     --block low   the block 5 mm tall on a footprint twice as long and wide (0.06 x 0.08
                   x 0.005 m, the same 0.5 kg: 20,800 kg/m^3): the pitching moment of
@@ -29,7 +30,19 @@ Losing contact, two things decide which orbit each model settles on (docs/valida
                   contact's dashpot (analytic/normal.py contact_damping): each node's
                   penalty dashpot beta k_pen,i then sums to the lumped one (the FE
                   default's damping ratio is ~3e-3, the lumped default 0.02)
+    --contact-damping modal
+                  fem.damping = c_n / k_n: the FE damping beta (K + K_pen) damps each
+                  mode at beta w / 2, so the FE bounce (w_b = sqrt(k_n / m), k_n matched
+                  to it) at zeta_n, as the lumped body's. "lumped" damps it at
+                  zeta_n k_n / k_pen instead: the same on the low block (k_n = 0.99
+                  k_pen), 0.74 zeta_n on the paper's block at E x 10, whose own
+                  compliance is a quarter of its bounce's
     --zeta-n      contact.zeta_n, the lumped contact's damping ratio (0.02)
+    --hold        the FE block held as the lumped body is: drive.attach = "load-group",
+                  drive.holder = "translating" (the drive and load at its top face, which
+                  moves as one rigid translation: fem/model/holder.py), so that it
+                  cannot pitch or rock; the lumped side is unchanged (it has no
+                  attachment point and no rotation)
 
 The vibration starts at the scene's t_on (0.14 s of sliding). The FE model answers
 by its steady cycle (time.method auto: the shooting of integrators/periodic.py, or
@@ -42,11 +55,13 @@ T, both averaging the last 20 cycles. (Stepped for 60 cycles from 5 ms of slidin
 
     .venv/bin/python benchmarks/fe_normal_vs_lumped.py [--mesh coarse] [--cycles 800]
         [--stiffer 100] [--steps-per-cycle 200] [--lumped-dt 5e-7]
-        [--block paper|low] [--contact-damping fe|lumped] [--zeta-n 0.02]
-        [--lumped-only]
+        [--block paper|low] [--contact-damping fe|lumped|modal] [--zeta-n 0.02]
+        [--lumped-only] [--hold]
         (docs/validation.md's tables: --stiffer 10 --block low --contact-damping
         lumped [--zeta-n 0.05], with and without --levels ... --kv 6; its scan of
-        the lumped orbits: --levels 1.0,1.002,...,1.03 --kv 6 --lumped-only)
+        the lumped orbits: --levels 1.0,1.002,...,1.03 --kv 6 --lumped-only; the
+        held paper's block: --stiffer 10 --contact-damping modal --zeta-n 0.05
+        --hold, with and without --levels ... --kv 6|0)
     .venv/bin/python benchmarks/fe_normal_vs_lumped.py --stiffer 1 --integrator explicit
         --levels 0.6,0.8,0.95,1.012
         (the normal motion alone, k_v = 0 (``--kv``), at those fractions of A_th; the
@@ -71,6 +86,9 @@ from vibrofric.fem.simulate import answer_ratio
 STIFFER = 100.0
 BLOCKS = {"paper": (0.03, 0.04, 0.053), "low": (0.06, 0.08, 0.005)}   # body.size (m)
 AVERAGED = 20
+# The FE block held as the lumped body is (--hold): pulled and pressed at its top face,
+# which translates without turning (fem/model/holder.py).
+HELD = {"drive.attach": "load-group", "drive.holder": "translating"}
 CASES = (("no normal motion", 0.0, None, 6.0, {}),
          ("in contact", 0.45, None, 6.0, {}),
          ("elliptical", 0.45, 90.0, 6.0, {}),
@@ -83,7 +101,8 @@ def stiff_scene(mesh: str, cycles: int, stiffer: float = STIFFER, block: str = "
     """The longitudinal scene on the block ``stiffer`` times stiffer, penalty and lumped
     k_n matched; ``block`` names its size (BLOCKS, the same mass), ``damping`` "lumped"
     sets fem.damping so that the FE contact's dashpots sum to the lumped one's
-    (c_n = 2 contact.zeta_n sqrt(k_n m))."""
+    (c_n = 2 contact.zeta_n sqrt(k_n m)), "modal" so that the FE bounce mode is damped at
+    contact.zeta_n (fem.damping = c_n / k_n)."""
     base = load_scene("longitudinal")
     body = base.body
     E = stiffer * body.E
@@ -100,6 +119,8 @@ def stiff_scene(mesh: str, cycles: int, stiffer: float = STIFFER, block: str = "
     scene = load_scene("longitudinal", **values)
     if damping == "lumped":
         scene = scene.with_values({"fem.damping": contact_damping(scene) / penalty})
+    elif damping == "modal":
+        scene = scene.with_values({"fem.damping": contact_damping(scene) / scene.normal_stiffness})
     return scene
 
 
@@ -129,8 +150,10 @@ def main() -> None:
     parser.add_argument("--kv", type=float, default=0.0,
                         help="vibration.k_v of the --levels rows (0: the normal motion alone)")
     parser.add_argument("--block", default="paper", choices=tuple(BLOCKS))
-    parser.add_argument("--contact-damping", default="fe", choices=("fe", "lumped"))
+    parser.add_argument("--contact-damping", default="fe", choices=("fe", "lumped", "modal"))
     parser.add_argument("--zeta-n", type=float, default=None, help="contact.zeta_n")
+    parser.add_argument("--hold", action="store_true",
+                        help="FE: drive.attach = load-group, drive.holder = translating")
     parser.add_argument("--lumped-only", action="store_true",
                         help="the lumped model's columns alone (a fine scan of --levels)")
     args = parser.parse_args()
@@ -143,7 +166,9 @@ def main() -> None:
         posed["contact.zeta_n"] = args.zeta_n
     probe = stiff_scene(args.mesh, args.cycles, args.stiffer, **posed)
     a_th = threshold(probe)
-    print(f"Block {list(probe.body.size)} m (E x {args.stiffer:g}), fem.damping "
+    held = HELD if args.hold else {}
+    print(f"Block {list(probe.body.size)} m (E x {args.stiffer:g}"
+          f"{', held at its top face' if args.hold else ''}), fem.damping "
           f"{probe.fem.damping:.4g} s (0: its default), contact.zeta_n "
           f"{probe.contact.zeta_n:g}, fem.penalty {probe.fem.penalty:.4g} N/m, "
           f"contact.k_n {probe.normal_stiffness:.4g} N/m, A_th = {a_th:.3g} m; mesh {args.mesh}, "
@@ -173,7 +198,8 @@ def main() -> None:
                   f"| {lumped['normal_force_min']:.3g}-{lumped['normal_force_max']:.3g} |", flush=True)
             continue
         fe_scene = lumped_scene.with_values(
-            {"time.dt": fe_step(args, lumped_scene.vibration.f), "fem.integrator": args.integrator})
+            {"time.dt": fe_step(args, lumped_scene.vibration.f), "fem.integrator": args.integrator,
+             **held})
         start = time.perf_counter()
         try:
             result = run_fe(fe_scene)

@@ -1,6 +1,7 @@
-"""The low, wide, stiff block on which the FE and lumped models are compared losing
-contact (benchmarks/fe_normal_vs_lumped.py --block low --contact-damping lumped,
-docs/validation.md "A base moving along Z"), at a cheap timing for the tests."""
+"""The stiff blocks on which the FE and lumped models are compared losing contact
+(benchmarks/fe_normal_vs_lumped.py --contact-damping lumped, docs/validation.md "A base
+moving along Z"), at a cheap timing for the tests: the low, wide block (--block low) and
+the paper's block (--block paper, held at its top face with --hold)."""
 
 import math
 
@@ -20,18 +21,25 @@ def loss_threshold(scene) -> float:
 
 
 def low_block_scene(level: float, k_v: float, zeta_n: float, **keys):
-    """The longitudinal scene on the low block, its base moving along Z at ``level``
-    times A_th from T_ON: the FE penalty the paper's block's, the lumped k_n the low
-    block's bounce on it (core/bounce.py), contact.zeta_n = ``zeta_n`` and fem.damping
+    """stiff_block_scene on the low block (SIZE)."""
+    return stiff_block_scene(SIZE, level, k_v, zeta_n, **keys)
+
+
+def stiff_block_scene(size, level: float, k_v: float, zeta_n: float, **keys):
+    """The longitudinal scene on a block of ``size`` (m; the paper's: meshes.DEFAULT_SIZE)
+    and the paper's mass, E x STIFFER, its base moving along Z at ``level`` times A_th
+    from T_ON: the FE penalty the paper's block's, the lumped k_n the block's bounce on
+    it (core/bounce.py), contact.zeta_n = ``zeta_n`` and fem.damping
     c_n / k_pen, so that the FE nodes' penalty dashpots sum to the lumped one's; the
     reduced FE integrator at 200 steps a cycle answering by its steady cycle where it
     finds one (time.method auto), the lumped time.dt 5e-7 s (``keys`` override)."""
+    size = tuple(size)
     base = load_scene("longitudinal")
     penalty = default_penalty(base.body.E, base.body.size)
     mass = base.body.mass
-    k_n = bounce_stiffness(mass, STIFFER * base.body.E, mass / math.prod(SIZE), SIZE, penalty)
+    k_n = bounce_stiffness(mass, STIFFER * base.body.E, mass / math.prod(size), size, penalty)
     f = base.vibration.f
-    values = {"body.E": STIFFER * base.body.E, "body.size": list(SIZE), "fem.penalty": penalty,
+    values = {"body.E": STIFFER * base.body.E, "body.size": list(size), "fem.penalty": penalty,
               "contact.k_n": k_n, "contact.zeta_n": zeta_n, "fem.mesh": "coarse",
               "fem.integrator": "reduced", "vibration.k_v": k_v, "vibration.t_on": T_ON,
               "time.T": T_ON + CYCLES / f, "time.dt": 5e-7, "time.average_cycles": 20,

@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from vibrofric.analytic.normal import contact_damping
 from vibrofric.analytic.solve import solve
 from vibrofric.api import load_scene
 from vibrofric.fem import run_fe
@@ -13,8 +14,9 @@ from vibrofric.fem.integrators.normal_start import bounce_frequency
 from vibrofric.fem.model.contact import contact_forces
 from vibrofric.fem.model.fe_model import build_model
 from vibrofric.fem.simulate import answer_ratio
+from vibrofric.meshes import DEFAULT_SIZE
 
-from low_block import low_block_scene
+from low_block import low_block_scene, stiff_block_scene
 
 
 def _normal_scene(amplitude, integrator="explicit", mesh="tiny", **keys):
@@ -200,6 +202,33 @@ def test_the_low_stiff_block_posed_alike_follows_the_lumped_body_losing_contact(
     scene = low_block_scene(1.02, 6.0, 0.05)
     _, lumped = solve(scene.with_values({"time.method": "transient"}), estimate=False)
     fe_scene = scene.with_values({"time.dt": 1.0 / (200 * scene.vibration.f)})
+    result = run_fe(fe_scene)
+    loss = lumped["contact_loss_fraction"]
+    assert 0.05 < loss < 0.3 and lumped["normal_force_min"] == 0.0
+    assert result.info["normal_force_min"] == pytest.approx(0.0, abs=1e-6)
+    assert result.info["contact_loss_fraction"] == pytest.approx(loss, abs=0.05)
+    assert answer_ratio(result, fe_scene) == pytest.approx(lumped["F_dv_over_F_d0"], rel=0.05)
+
+
+@pytest.mark.slow
+def test_the_paper_block_held_at_its_top_follows_the_lumped_body_losing_contact():
+    """docs/validation.md "A base moving along Z": the paper's 53 mm block, stiff (E x
+    10), held as the lumped body is: pulled and pressed at its top face, which
+    translates without turning (drive.attach = "load-group", drive.holder =
+    "translating"); its bounce damped at the lumped contact.zeta_n = 0.05 (fem.damping
+    = c_n / k_n: the Rayleigh damping beta (K + K_pen) damps a mode at beta w / 2). 2%
+    above A_th both models lose contact for part of the cycle (measured 10.8% of the
+    lumped cycle, 12.8% of the FE node-time) and their F_dv/F_d0 agree within 2%
+    (measured -1.80%). The bounds: the acceptance's 5%; the loss fractions within 0.05
+    (the back half of the face opens a little longer). Unheld (the contact-plane drive)
+    the same block rocks, one edge landing alone, and goes over to bouncing: out of
+    contact 97.5% of the node-time, F_dv/F_d0 0.094 against 0.428 (measured with the
+    holder's keys taken out), which fails both bounds."""
+    held = {"drive.attach": "load-group", "drive.holder": "translating"}
+    scene = stiff_block_scene(DEFAULT_SIZE, 1.02, 6.0, 0.05)
+    scene = scene.with_values({"fem.damping": contact_damping(scene) / scene.normal_stiffness})
+    _, lumped = solve(scene.with_values({"time.method": "transient"}), estimate=False)
+    fe_scene = scene.with_values({"time.dt": 1.0 / (200 * scene.vibration.f), **held})
     result = run_fe(fe_scene)
     loss = lumped["contact_loss_fraction"]
     assert 0.05 < loss < 0.3 and lumped["normal_force_min"] == 0.0
