@@ -75,6 +75,29 @@ def test_the_ball_s_interface_is_its_patch_and_what_the_reach_brings(coarse_ball
     assert Interface.of(model, 3.0).kept.size < model.contact_nodes.size
 
 
+def test_the_model_cache_keeps_a_partial_interface_apart_with_its_watched_rows(coarse_ball):
+    """The reduction on the ball's interface, read back from the model cache: the same
+    matrices and the rows of the basis that watch the left-out candidates, under a key
+    of its own (not the whole interface's)."""
+    from vibrofric.fem.integrators import reduction
+
+    model, cutoff = coarse_ball, 48e3
+    interface = Interface.of(model, 3.0)
+    inner = interface.model(model)
+    watched = interface.watched_dofs(model)
+    reduction.forget()
+    made = reduction.reduced(inner, cutoff, watched, interface.digest())
+    reduction.forget()
+    read = reduction.reduced(inner, cutoff, watched, interface.digest())
+    assert read is not made and read.watch_rows.shape == (watched.size, read.size)
+    assert np.array_equal(read.watch_rows, made.basis[watched])
+    assert np.array_equal(read.stiffness, made.stiffness)
+    reduction.forget()
+    whole = reduction.reduced(model, cutoff)
+    assert whole.size > read.size and whole.watch_rows.shape == (0, whole.size)
+    reduction.forget()
+
+
 def test_the_ball_s_reduced_answer_on_its_interface_is_the_full_model_s(coarse_ball):
     """The coarse ball (scenes/ball.toml, held, dt 5e-6 s, 8 vibration cycles): reduced
     on its default interface (5 of 55 candidates), against the full implicit model and
