@@ -81,12 +81,13 @@ class Watch(NamedTuple):
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
 def watched_contact(q, rows, rest, z_b) -> bool:
-    """Whether a watched candidate has reached the base: g_i = rest_i + rows_i q - z_b <= 0."""
+    """Whether a watched candidate has reached the base: g_i = rest_i + rows_i q - z_b < 0,
+    where the penalty would push on it (model/contact.py normal_force)."""
     for i in range(rows.shape[0]):
         g = rest[i] - z_b
         for k in range(q.shape[0]):
             g += rows[i, k] * q[k]
-        if g <= 0.0:
+        if g < 0.0:
             return True
     return False
 
