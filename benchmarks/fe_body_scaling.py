@@ -1,7 +1,9 @@
 """How the FE model's set-up and step grow with DOFs and contact candidates: the ball
 refined at its contact beside the paper's block, at about 20k, 50k and 100k DOFs
-(docs/performance.md, "2026-11-27: the FE ball and block from 20k to 100k DOFs" and,
-the 50k ball's basis read apart, "2026-11-27: the cached reduction without its basis").
+(docs/performance.md, "2026-11-27: the FE ball and block from 20k to 100k DOFs";
+the 50k ball's basis read apart, "2026-11-27: the cached reduction without its basis";
+its interface limited, "2026-11-27: the reduced model's interface limited to the
+candidates within reach").
 
 The ball is scenes/ball.toml's at fem.mesh = "fine" (its Hertz patch resolved by
 refinement.PATCH_ELEMENTS["fine"] elements across its radius), with the element edge
@@ -21,7 +23,9 @@ cache the first left. Each process times
     frequency   stability.max_frequency (the explicit stable step)
     set-up      fe_model.build_model whole (the above and the rest)
     reduction   the reduced integrator's set-up (reduction.reduced: constraint and
-                fixed-interface modes, the projected matrices), its error estimate apart
+                fixed-interface modes, the projected matrices) on the interface that
+                fem.interface_reach keeps (integrators/interface.py; --interface-reach,
+                default the scene's), its error estimate apart
     basis       the reduction's basis first asked for (Reduction.basis: from the cache,
                 its file mapped and checked), as a run's frames and last fields ask
     a step      of each integrator: explicit at 0.9 of the model's stable step, implicit
@@ -29,10 +33,11 @@ cache the first left. Each process times
                 (core.errors.StepTooLong), just below the step it names; STEPS steps
                 timed after WARM_STEPS (which take numba's compiling, if any)
 
-and the counts: DOFs, contact candidates, nodes in the preload's patch.
+and the counts: DOFs, contact candidates, nodes in the preload's patch, the
+interface's nodes.
 
     PYTHONPATH=. python benchmarks/fe_body_scaling.py [--cases ball-20k,block-20k,...]
-        [--out results/body_scaling.json]
+        [--interface-reach 3|all] [--out results/body_scaling.json]
 
 prints a Markdown table and the fitted exponents p of time ~ DOFs^p per body. The
 100k ball took 5 min and peaked at 10.6 GB (its first run's reduction): run it once.
@@ -124,14 +129,16 @@ def _prepared(scene, model, integrator: str, dt: float, kept) -> tuple:
         return _prepared(scene, model, integrator, 0.99 * float(match.group(1)), kept)
 
 
-def measure(case: str, steps: bool) -> dict:
-    """One process's measurements of ``case`` (module docstring)."""
+def measure(case: str, steps: bool, reach) -> dict:
+    """One process's measurements of ``case`` (module docstring), its interface that of
+    fem.interface_reach ``reach`` (None: the scene's)."""
     body, scene_file, level, divisions, integrators = CASES[case]
     from mpi4py import MPI
 
     from vibrofric import meshes
     from vibrofric.api import load_scene
     from vibrofric.fem.integrators import reduction
+    from vibrofric.fem.integrators.interface import Interface
     from vibrofric.fem.model import fe_model, model_cache
     from vibrofric.meshes import refinement
 
@@ -143,14 +150,18 @@ def measure(case: str, steps: bool) -> dict:
     _timed(fe_model, "static_preload", clock, "preload")
     _timed(fe_model.stability, "max_frequency", clock, "frequency")
     scene = load_scene(ROOT / scene_file).with_values(
-        {"fem.mesh": level, "vibration.t_on": 0.0})
+        {"fem.mesh": level, "vibration.t_on": 0.0,
+         **({} if reach is None else {"fem.interface_reach": reach})})
     start = time.perf_counter()
     model = fe_model.build_model(scene, MPI.COMM_SELF)
     clock["setup"] = time.perf_counter() - start
 
     _note(case, clock)
     start = time.perf_counter()
-    kept = reduction.reduced(model, scene.fem.cutoff * scene.vibration.f)
+    interface = Interface.of(model, scene.fem.interface_reach)
+    full_model, model = model, interface.model(model)   # as reduction.ReducedRun does
+    kept = reduction.reduced(model, scene.fem.cutoff * scene.vibration.f,
+                             interface.watched_dofs(full_model), interface.digest())
     clock["reduction"] = time.perf_counter() - start
     start = time.perf_counter()
     kept.basis
@@ -161,8 +172,9 @@ def measure(case: str, steps: bool) -> dict:
         clock["reduction_error"] = time.perf_counter() - start
     _note(case, clock)
     out = {"case": case, "body": body, "level": level, "divisions": divisions,
-           "dofs": model.dofs, "candidates": int(model.contact_nodes.size),
-           "patch": int(model.in_contact0.sum()), "dt_stable": model.dt_stable,
+           "dofs": model.dofs, "candidates": int(full_model.contact_nodes.size),
+           "patch": int(model.in_contact0.sum()), "interface": int(interface.kept.size),
+           "dt_stable": model.dt_stable,
            "reduced_size": int(kept.mass.shape[0]), "seconds": clock}
     if steps:
         step, step_dt = {}, {}
@@ -178,11 +190,13 @@ def measure(case: str, steps: bool) -> dict:
     return out
 
 
-def run_case(case: str, cache: Path, steps: bool) -> dict:
+def run_case(case: str, cache: Path, steps: bool, reach=None) -> dict:
     """measure(case) in a fresh process over the cache directory ``cache``."""
     env = {**os.environ, "VIBROFRIC_CACHE": str(cache),
            "PYTHONPATH": f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
     command = [sys.executable, __file__, "--child", case] + ([] if steps else ["--no-steps"])
+    if reach is not None:
+        command += ["--interface-reach", str(reach)]
     start = time.perf_counter()
     done = subprocess.run(command, env=env, stdout=subprocess.PIPE, text=True, check=False)
     if done.returncode != 0:
@@ -190,6 +204,10 @@ def run_case(case: str, cache: Path, steps: bool) -> dict:
     result = json.loads(done.stdout.strip().splitlines()[-1])
     result["process_seconds"] = time.perf_counter() - start
     return result
+
+
+def _reach(text: str):
+    return text if text == "all" else float(text)
 
 
 def fit_exponent(x, y) -> float:
@@ -202,7 +220,7 @@ def fit_exponent(x, y) -> float:
 
 
 def table(results: list) -> str:
-    rows = ["| case | DOFs | candidates (patch) | reduced size | run | mesh s | assembly s | "
+    rows = ["| case | DOFs | candidates (patch) | reduced size (interface) | run | mesh s | assembly s | "
             "preload s | frequency s | set-up s | reduction s (+ error s) | basis s | "
             "explicit step ms | implicit step ms | reduced step ms | their step s | peak RSS MB |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -217,7 +235,8 @@ def table(results: list) -> str:
         error = s.get("reduction_error")
         rows.append(
             f"| {r['case']} ({r['level']}{'' if r['divisions'] is None else ', ' + str(r['divisions']) + ' divisions'}) "
-            f"| {r['dofs']:,} | {r['candidates']} ({r['patch']}) | {r['reduced_size']} | {r['run']} "
+            f"| {r['dofs']:,} | {r['candidates']} ({r['patch']}) | "
+            f"{r['reduced_size']} ({r.get('interface', r['candidates'])}) | {r['run']} "
             f"| {s.get('mesh', 0):.3g} | {s.get('assembly', 0):.3g} | {s.get('preload', 0):.3g} "
             f"| {s.get('frequency', 0):.3g} | {s['setup']:.3g} "
             f"| {s['reduction']:.3g} ({'-' if error is None else f'+{error:.3g}'}) "
@@ -250,11 +269,13 @@ def main() -> None:
     parser.add_argument("--cases", default=",".join(DEFAULT_CASES),
                         help=f"comma-separated, of {', '.join(CASES)}")
     parser.add_argument("--out", type=Path, help="also write the results as JSON")
+    parser.add_argument("--interface-reach", type=_reach,
+                        help="fem.interface_reach: a number > 0 or \"all\" (default: the scene's)")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     parser.add_argument("--no-steps", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.child:
-        print(json.dumps(measure(args.child, not args.no_steps)))
+        print(json.dumps(measure(args.child, not args.no_steps, args.interface_reach)))
         return
     results = []
     for case in args.cases.split(","):
@@ -263,7 +284,7 @@ def main() -> None:
     for case in args.cases.split(","):
         with tempfile.TemporaryDirectory(prefix="vibrofric-scaling-") as cache:
             for run, steps in (("first", False), ("cached", True)):
-                result = run_case(case, Path(cache), steps)
+                result = run_case(case, Path(cache), steps, args.interface_reach)
                 result["run"] = run
                 results.append(result)
                 print(f"{case} {run}: set-up {result['seconds']['setup']:.3g} s, "

@@ -35,7 +35,8 @@ from pathlib import Path  # noqa: E402
 # themselves: ``analytic`` starts its plot process before (plot_worker).
 from . import __version__, output  # noqa: E402
 from .answer_text import accuracy_warning, answer_with_error, value_with_error  # noqa: E402
-from .core.errors import BodyLeftContact, NumericalError, Refusal  # noqa: E402
+from .core.errors import (BodyLeftContact, ContactBeyondInterface, NumericalError,  # noqa: E402
+                          Refusal)
 from .output import OutputError  # noqa: E402
 from .library_logs import quiet_libraries  # noqa: E402
 from .parallel import interruptible, launcher_rank  # noqa: E402
@@ -481,7 +482,7 @@ def _explained(err: Exception):
         return f"vibrofric: invalid scene: {refused(err)}", EXIT_BAD_INPUT
     if isinstance(err, OutputError):
         return f"vibrofric: {err}", EXIT_BAD_INPUT
-    if isinstance(err, BodyLeftContact):
+    if isinstance(err, (BodyLeftContact, ContactBeyondInterface)):
         return f"vibrofric: run stopped: {err}", EXIT_NUMERICAL
     if isinstance(err, NumericalError):
         return f"vibrofric: numerical trouble: {err}", EXIT_NUMERICAL

@@ -18,6 +18,12 @@ class BodyLeftContact(NumericalError):
     trouble (nothing written)."""
 
 
+class ContactBeyondInterface(NumericalError):
+    """A reduced run stopped because a contact candidate it left out of its interface
+    (fem/integrators/interface.py) reached the base: its answer would hold a contact it
+    cannot see. Stopped and reported like BodyLeftContact (nothing written)."""
+
+
 class Refusal(ValueError):
     """A model that cannot run the scene as given, refused before any work."""
 

@@ -154,7 +154,7 @@ def _run(scene, model, vtk_dir, progress, start, drive_force, start_time) -> FER
     if shoots(scene):
         shot_scene, steps = periodic.periodic_scene(scene)
         integrator = prepare(shot_scene, model)
-        phi = FECycleMap(integrator, model, steps)    # the compiled step loaded
+        phi = FECycleMap(integrator, integrator.model, steps)    # the compiled step loaded
         if progress is not None:
             phi.on_cycle = lambda cycles: progress(cycles, None)
         setup_time = time.perf_counter() - start_time
@@ -204,7 +204,8 @@ def _answer_at(scene, model, dt, start, periodic_answer: bool, drive_force=None)
     try:
         if periodic_answer:
             shot, steps = periodic.periodic_scene(at)
-            phi = FECycleMap(registry.select(shot)(shot, model), model, steps)
+            shot_run = registry.select(shot)(shot, model)
+            phi = FECycleMap(shot_run, shot_run.model, steps)
             with one_blas_thread():
                 orbit = periodic.find_orbit(phi, start, drive_force, stability=False)
             if not orbit.converged:
@@ -340,7 +341,8 @@ def _steady_cycle(scene, shot_scene, model, integrator, orbit, phi, vtk_dir, sta
         if writer is not None:
             writer.close()
     # the nodes' normal forces over the cycle cycle_frames integrated: the orbit's
-    node_normals = phi.recorder.node_normals(phi.i0 + phi.steps, phi.steps)
+    node_normals = integrator.full_normals(phi.recorder.node_normals(phi.i0 + phi.steps,
+                                                                     phi.steps))
     f_n = orbit.cycle[:, COLUMNS.index("F_n")]
     steps = orbit.cycles_integrated * orbit.steps
     stats = {"steps": steps, "steps_planned": scene.steps, "stopped_early": False,

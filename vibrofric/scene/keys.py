@@ -32,6 +32,10 @@ def check_type(key: str, value, annotation):
     """Coerce a TOML value to the field's type, or refuse it."""
     optional = typing.get_origin(annotation) is typing.Union
     if optional and type(None) not in typing.get_args(annotation):   # a choice of types
+        if float in typing.get_args(annotation) and type(value) is int:
+            value = float(value)      # 2 and 2.0 are one value
+        if isinstance(value, float) and not math.isfinite(value):
+            raise SceneError(key, f"expected a finite number, got {value!r}")
         if not isinstance(value, typing.get_args(annotation)):
             names = " or ".join(t.__name__ for t in typing.get_args(annotation))
             raise SceneError(key, f"expected {names}, got {value!r}")

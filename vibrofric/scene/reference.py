@@ -31,7 +31,7 @@ UNITS = {
     "time.T": "s", "time.dt": "s", "time.average_cycles": "cycles", "time.series_dt": "s",
     "time.steady_tolerance": "", "time.steady_cycles": "cycles", "time.settle_tolerance": "",
     "fem.penalty": "N/m", "fem.contact_stiffness": "Pa/m", "fem.output_every": "steps", "fem.damping": "s",
-    "fem.rho_infinity": "", "fem.cutoff": "", "fem.accuracy": "",
+    "fem.rho_infinity": "", "fem.cutoff": "", "fem.interface_reach": "", "fem.accuracy": "",
 }
 # [contact]'s fields that hold the law's parameters, not keys of their own
 LAW_FIELDS = ("parameters", "tables")

@@ -238,6 +238,12 @@ class Fem:
                                            # infinite frequency; 1 = trapezoidal rule (fem/integrators/implicit.py)
     cutoff: float = 12.0                   # reduced: keep the block's fixed-interface modes below
                                            # cutoff * vibration.f (fem/integrators/reduction.py)
+    interface_reach: typing.Union[float, str] = 3.0  # reduced: the contact candidates kept on
+                                           # the interface: the preload's patch and those whose
+                                           # gap at rest is within reach times the patch edge's
+                                           # (3: a Hertz patch under up to 5.2 F_N); the others
+                                           # are watched, and a run where one touches stops;
+                                           # "all": every candidate (fem/integrators/interface.py)
     accuracy: float = 0.01                 # auto: the reduced model's estimated error of F_dv (relative)
                                            # it accepts (fem/integrators/registry.py); its step
                                            # meets time.accuracy

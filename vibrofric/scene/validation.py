@@ -150,6 +150,9 @@ def validate(scene: Scene) -> None:
         raise SceneError("fem.rho_infinity", f"must lie in [0, 1], got {scene.fem.rho_infinity}")
     if scene.fem.cutoff < 0:
         raise SceneError("fem.cutoff", f"must be >= 0, got {scene.fem.cutoff}")
+    reach = scene.fem.interface_reach
+    if reach != "all" and (isinstance(reach, str) or not reach > 0):
+        raise SceneError("fem.interface_reach", f"must be a number > 0 or \"all\", got {reach!r}")
     if not 0.0 < scene.time.accuracy < 1.0:
         raise SceneError("time.accuracy", f"must lie in (0, 1), got {scene.time.accuracy}")
     if scene.time.error_estimate not in (True, False, "auto"):

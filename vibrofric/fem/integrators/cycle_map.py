@@ -73,8 +73,9 @@ def unrestrained_motions(scene) -> tuple:
 
 class FECycleMap:
     """Phi: one base cycle of the prepared integrator ``run`` (registry.py) on
-    ``model``, for the scene it was prepared with (whose time.dt puts a whole number
-    ``steps`` of steps in a cycle: periodic.py sees to it)."""
+    ``model`` (run.model: a reduced run's is its interface's, interface.py), for the scene
+    it was prepared with (whose time.dt puts a whole number ``steps`` of steps in a cycle:
+    periodic.py sees to it)."""
 
     def __init__(self, run, model, steps: int):
         scene = run.scene

@@ -49,6 +49,7 @@ from .normal_start import (first_step_on, normal_force_limit, restart_normal_for
 from ..model.drive import attachment_xy
 from ..outputs.energy import SUMS, add_contact_work, add_damping_and_drive_work
 from ..outputs.energy import record as record_energy, stored as energy_stored
+from .interface import Watch, watched_contact
 from .generalized_alpha import (LinearSystem, Scheme, coefficients, contact_tangent,
                                 free_response, newmark_update)
 from ..model.linalg import apply, bsr, columns_of_inverse, factorize, inverse, solve
@@ -125,6 +126,8 @@ class Operators(NamedTuple):
     drive_index: np.ndarray
     drive_x: np.ndarray
     drive_y: np.ndarray
+    watch_rows: np.ndarray  # the candidates left out of a reduced model's interface
+    watch_rest: np.ndarray  # (interface.Watch; none: zero rows)
 
 
 class BaseMotion(NamedTuple):
@@ -234,6 +237,7 @@ class ImplicitRun(TimeLoop):
     def __init__(self, scene, model, system: LinearSystem, name="implicit"):
         t = scene.time
         self.scene, self.model, self.system, self.name = scene, model, system, name
+        self.watch = Watch.none(system.size)   # a reduced run's left-out candidates (reduction.py)
         self.coefficients = coefficients(scene.fem.rho_infinity, t.dt)
         self.substeps = implicit_substeps(scene)
         # a base motion given per step, at the friction sub-steps (core/base_table.py)
@@ -330,7 +334,8 @@ class ImplicitRun(TimeLoop):
         others = np.setdiff1d(np.arange(n), system.contact_dofs.ravel())
         operators = Operators(self.mass_op, self.stiffness_op, self.inv, self.Z, self.G, self.h,
                               self.e, self.h_y, self.e_xy, self.e_yy, system.contact_dofs, others,
-                              system.drive_index, system.drive_x, system.drive_y)
+                              system.drive_index, system.drive_x, system.drive_y,
+                              *self.watch)
         nodes = ContactData(u0c, model.normal0, model.penalty_share, model.area_share,
                             model.nominal_normal, model.initial_gap, self.tangent, self.assumed)
         lift = np.ascontiguousarray(system.rigid(np.tile([0.0, 0.0, 1.0], model.dofs // 3)))
@@ -526,6 +531,8 @@ def implicit_steps(first, last, operators, contact, params, base, drive, scheme,
         magnitude = commit_contact(states, normal, friction, work)
         xb, yb = xb_new, yb_new
         zb = zb_new
+        if watched_contact(q, operators.watch_rows, operators.watch_rest, zb):
+            return i, trouble.BEYOND_INTERFACE, 0
         f_d_old = f_d
         f_hold_old = f_hold
 

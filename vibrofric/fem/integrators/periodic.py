@@ -235,9 +235,10 @@ def cycle_frames(phi: FECycleMap, orbit: Orbit, end_time: float, frame=None) -> 
         u, v = phi.started.fields()
         u = u.copy()
         u[0::3] += v_d * (end_time - (i0 + n) * dt)   # the drive's translation, X
-        return State(step, end_time - (i0 + n - step) * dt, u, v.copy(), c.state.copy(),
-                     law.deformation(c.state), c.normal.copy(), c.friction.copy(),
-                     scalars[XB], scalars[YB])
+        return phi.run.full_state(State(step, end_time - (i0 + n - step) * dt, u, v.copy(),
+                                        c.state.copy(), law.deformation(c.state),
+                                        c.normal.copy(), c.friction.copy(), scalars[XB],
+                                        scalars[YB]))
 
     if frame is not None:
         frame(state(i0))

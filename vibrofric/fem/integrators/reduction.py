@@ -5,8 +5,9 @@ the drive on its attachment, and the excitation (3-4 kHz and the harmonics
 the friction makes) lies below most of the block's elastic modes. So the
 block's displacement from the preload is written
 
-    u - u0 = T q,   T = [ I    0    0   ]   rows: the boundary b (every contact node's X, Y, Z)
-                        [ Psi  Phi  psi ]         the interior i (all other DOFs)
+    u - u0 = T q,   T = [ I    0    0   ]   rows: the boundary b (the interface's contact
+                        [ Psi  Phi  psi ]         candidates' X, Y, Z: interface.py)
+                                                  the interior i (all other DOFs)
 
 with q = (u_b, eta, xi):
 
@@ -49,7 +50,8 @@ one: 12 kHz lies between the block's rocking modes on its contact (10.7
 and 12.7 kHz).
 
 Cost. The set-up factorizes K_ii, solves it for every boundary DOF (3 per
-contact node), forms T^T M T and T^T K T (dense, dofs x size^2) and, for the
+interface node: on a curved body only the candidates within fem.interface_reach
+of the base, interface.py), forms T^T M T and T^T K T (dense, dofs x size^2) and, for the
 error, factorizes the full complex matrix at each compared harmonic; a step
 costs ~3 size^2 multiply-adds. ``vibrofric bench`` reports both per mesh level.
 
@@ -85,6 +87,7 @@ from ...core.law_limits import sliding_length
 from ..model import model_cache
 from .generalized_alpha import LinearSystem
 from .implicit import ImplicitRun
+from .interface import Interface, Watch
 from ..model.linalg import dof_points, nested_dissection, spd_factor, symmetric_lu
 
 # Harmonics of the excitation at which the compliance is compared (compared_harmonics),
@@ -119,19 +122,24 @@ def forget() -> None:
     _full_compliance.clear()
 
 
-def reduced(model, cutoff_hz: float) -> "Reduction":
-    """Reduction(model, cutoff_hz), or the one this process made last for the same, or
-    the one the model cache holds (model/model_cache.py): its small arrays read, its
-    basis read when first asked for (``Reduction.basis``)."""
+def reduced(model, cutoff_hz: float, watched=None, interface: str = "") -> "Reduction":
+    """Reduction(model, cutoff_hz, watched), or the one this process made last for the
+    same, or the one the model cache holds (model/model_cache.py): its small arrays read,
+    its basis read when first asked for (``Reduction.basis``). ``model`` is the
+    interface's (interface.Interface.model), ``watched`` the Z DOFs of the candidates it
+    left out and ``interface`` its digest (Interface.digest: "" for every candidate)."""
     key = model_key(model)
-    if (key, cutoff_hz) not in _last_reduction:
+    watched = np.zeros(0, dtype=np.int64) if watched is None else watched
+    if (key, cutoff_hz, interface) not in _last_reduction:
         forget()
         parts = {"model": key, "cutoff_hz": float(cutoff_hz), "numpy": np.__version__,
                  "scipy": scipy.__version__}
+        if interface:
+            parts["interface"] = interface
         built = []
 
         def build():
-            made = Reduction(model, cutoff_hz, key)
+            made = Reduction(model, cutoff_hz, key, watched)
             built.append(made)
             return {**made.arrays(),
                     "basis_sha256": model_cache.store_array("basis", parts, made.basis)}
@@ -145,13 +153,13 @@ def reduced(model, cutoff_hz: float) -> "Reduction":
                 T = model_cache.mapped_array("basis", parts, str(arrays["basis_sha256"]),
                                              shape)
                 if T is None:   # pruned or damaged: made again (the same computation)
-                    T = Reduction(model, cutoff_hz, key).basis
+                    T = Reduction(model, cutoff_hz, key, watched).basis
                     model_cache.store_array("basis", parts, T)
                 return T
 
             made = Reduction.from_arrays(arrays, key, basis)
-        _last_reduction[key, cutoff_hz] = made
-    return _last_reduction[key, cutoff_hz]
+        _last_reduction[key, cutoff_hz, interface] = made
+    return _last_reduction[key, cutoff_hz, interface]
 
 
 class Reduction:
@@ -164,6 +172,8 @@ class Reduction:
     drive_x, drive_y  T^T d_x, T^T d_y (size,): the drive's attachment weights d on
                 the nodes' X, Y DOFs, projected (x_A = (T^T d_x)^T q)
     compliance_loads  T^T P (size, 3): compliance_error's loads P projected
+    watch_rows  T's rows (m, size) of the ``watched`` DOFs: the Z of the candidates the
+                interface left out (interface.py), whose gaps the run watches
     model_key   model_key(model): its full compliances are kept under it
     compliances the reduced compliances computed so far, by (k_t, omega) (compliance_error)
     """
@@ -173,8 +183,12 @@ class Reduction:
               "compliance_loads")
 
     def arrays(self) -> dict:
-        """What model_cache stores of it in its entry."""
-        return {name: getattr(self, name) for name in self.STORED}
+        """What model_cache stores of it in its entry (the watched rows where there are
+        any: an entry of a whole-candidate interface is as it always was)."""
+        arrays = {name: getattr(self, name) for name in self.STORED}
+        if self.watch_rows.shape[0]:
+            arrays["watch_rows"] = self.watch_rows
+        return arrays
 
     @classmethod
     def from_arrays(cls, arrays: dict, key: str, basis) -> "Reduction":
@@ -185,6 +199,8 @@ class Reduction:
         reduction.compliances = {}
         for name in cls.STORED:
             setattr(reduction, name, arrays[name])
+        reduction.watch_rows = (arrays["watch_rows"] if "watch_rows" in arrays
+                                else np.zeros((0, reduction.size)))
         reduction._basis, reduction._read_basis = None, basis
         return reduction
 
@@ -200,7 +216,7 @@ class Reduction:
     def size(self) -> int:
         return self.mass.shape[0]
 
-    def __init__(self, model, cutoff_hz: float, key: str | None = None):
+    def __init__(self, model, cutoff_hz: float, key: str | None = None, watched=None):
         self.model_key = key if key is not None else model_key(model)
         self.compliances = {}
         n = model.dofs
@@ -232,6 +248,7 @@ class Reduction:
         T[interior, boundary.size:] = np.hstack([modes] + extra)
         self._basis = T
         self.boundary = boundary
+        self.watch_rows = T[np.zeros(0, dtype=np.int64) if watched is None else watched]
         self.drive_x, self.drive_y = (T.T @ d for d in _drive_loads(model))
         self.compliance_loads = T.T @ _compliance_loads(model, boundary)
         self.frequencies = omega / (2.0 * math.pi)
@@ -402,13 +419,17 @@ class ReducedRun(ImplicitRun):
 
     def __init__(self, scene, model):
         cutoff = scene.fem.cutoff * scene.vibration.f
+        self.interface = Interface.of(model, scene.fem.interface_reach)
+        inner = self.interface.model(model)       # its contact arrays the interface's
         start = time.perf_counter()
-        reduction = reduced(model, cutoff)
+        reduction = reduced(inner, cutoff, self.interface.watched_dofs(model),
+                            self.interface.digest())
         self.reduction_time = time.perf_counter() - start
         self.reduction = reduction
-        super().__init__(scene, model, reduction.system(), name="reduced")
+        super().__init__(scene, inner, reduction.system(), name="reduced")
+        self.watch = Watch(reduction.watch_rows, self.interface.watch_rest(model))
         start = time.perf_counter()
-        self.error = compliance_error(model, reduction, scene)
+        self.error = compliance_error(inner, reduction, scene)
         self.error_time = time.perf_counter() - start
         if not np.isfinite(self.error["max"]):
             raise ReductionFailed("the reduced model's compliance could not be compared "
@@ -419,6 +440,7 @@ class ReducedRun(ImplicitRun):
         r = self.reduction
         return {**super().info,
                 "reduced_size": int(r.mass.shape[0]),
+                "interface_nodes": int(self.interface.kept.size),
                 "kept_modes": int(r.frequencies.size),
                 "kept_modes_hz": [float(f) for f in r.frequencies],
                 "cutoff_hz": self.scene.fem.cutoff * self.scene.vibration.f,
@@ -426,3 +448,9 @@ class ReducedRun(ImplicitRun):
                 "reduction_error_per_harmonic": {str(h): e for h, e in self.error["per_harmonic"].items()},
                 "reduction_error_estimate": self.error["max"],
                 "reduction_error_time_s": self.error_time}
+
+    def full_state(self, state):
+        return self.interface.full_state(state, self.scene.friction.law)
+
+    def full_normals(self, node_normals):
+        return self.interface.full_normals(node_normals)

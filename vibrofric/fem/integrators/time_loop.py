@@ -93,6 +93,15 @@ class TimeLoop:
         """The integrator's own statistics of a run that ended at step ``last``."""
         return {}
 
+    def full_state(self, state: State) -> State:
+        """A state of the run on every contact candidate of the scene's model: here the
+        run's own (a reduced run's interface may hold fewer: interface.py)."""
+        return state
+
+    def full_normals(self, node_normals: np.ndarray) -> np.ndarray:
+        """Recorder.node_normals on every contact candidate (as full_state)."""
+        return node_normals
+
     def table_row_at(self, i: int) -> np.ndarray:
         """The row (core/base_table.py TABLE_COLUMNS) of the base motion given per step
         that the compiled step reads at the end of step i, zeros where the sine alone
@@ -126,9 +135,9 @@ class TimeLoop:
 
         def state(step):
             u, v = started.fields()
-            return State(step, step * dt, u, v, contact.state.copy(),
-                         law.deformation(contact.state), contact.normal, contact.friction,
-                         scalars[XB], scalars[YB])
+            return self.full_state(State(step, step * dt, u, v, contact.state.copy(),
+                                         law.deformation(contact.state), contact.normal,
+                                         contact.friction, scalars[XB], scalars[YB]))
 
         def advance(first, last):
             failed, code, stop = started.steps(first, last)
@@ -145,4 +154,4 @@ class TimeLoop:
                  **steady.report(last)}
         window = min(averaging_steps(scene), recorder.full, last)
         return Integration(recorder.table(last), state(last), stats,
-                           recorder.node_normals(last, window))
+                           self.full_normals(recorder.node_normals(last, window)))

@@ -8,11 +8,12 @@ import math
 
 from numba import njit
 
-from ...core.errors import NumericalError
+from ...core.errors import ContactBeyondInterface, NumericalError
 from ...core.law_limits import DIVERGED, NORMAL_LIMIT
 
 # Codes returned by the time loops, and what they mean.
-OK, NOT_FINITE, FRICTION_DIVERGED, NORMAL_BLOWUP, LIFT_OFF, NOT_CONVERGED = range(6)
+OK, NOT_FINITE, FRICTION_DIVERGED, NORMAL_BLOWUP, LIFT_OFF, NOT_CONVERGED, BEYOND_INTERFACE = \
+    range(7)
 
 # A summed friction force beyond DIVERGED times its Coulomb limit, or a summed
 # normal force beyond NORMAL_LIMIT (core/law_limits.py) times F_N, is numerical
@@ -57,6 +58,11 @@ def failure(step, code, scene, hint) -> NumericalError:
     stable one throws the body off the base as often as it makes a NaN.
     """
     dt = scene.time.dt
+    if code == BEYOND_INTERFACE:     # physics the reduced model left out, not numbers
+        return ContactBeyondInterface(
+            f"at t = {step * dt:.6g} s (step {step}) a contact candidate outside the reduced "
+            "model's interface reached the base; raise fem.interface_reach or set it to "
+            "\"all\"")
     if code == FRICTION_DIVERGED and scene.contact.law_values.get("update") == "paper":
         hint = ("the paper's explicit Dahl update is stable only while |v_r| dt < 2 s_c per node; "
                 "use contact.update = \"exact\" or a smaller time.dt")
