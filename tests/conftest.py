@@ -1,5 +1,6 @@
 import os
 import pathlib
+import signal
 
 import numpy as np
 import pytest
@@ -22,6 +23,14 @@ ROOT = SCENES.parent
 # mpirun exits 1 at once, the PyPI stack's MPICH aborts ("unsupported PMI
 # version PMIx"). Seen under pytest-xdist's worker processes.
 MPI_RUNTIME = ("OMPI_", "PMIX_", "PMI_")
+
+
+def as_in_a_terminal():
+    """A child's Ctrl-C as a command started from a terminal has it (``preexec_fn``): a
+    test run started in the background (``make test &``, nohup) inherits SIGINT
+    ignored, and Python then installs no handler for it, so a SIGINT sent to the
+    child would do nothing."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def child_environment(**more) -> dict:

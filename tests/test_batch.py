@@ -11,7 +11,7 @@ import sys
 import time
 
 import pytest
-from conftest import child_environment
+from conftest import as_in_a_terminal, child_environment
 
 from vibrofric.cli import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_POINTS_FAILED, EXIT_TERMINATED, main
 
@@ -250,11 +250,6 @@ def test_a_killed_pool_stops_its_workers_and_resumes(tmp_path):
     assert main(pool_sweep(whole)) == 0
     assert without_timing(results(out)) == without_timing(results(whole))
 
-
-def as_in_a_terminal():
-    """Ctrl-C as a command started from a terminal has it (a test run in the
-    background inherits it ignored)."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 @pytest.mark.parametrize("how, code", [(signal.SIGINT, EXIT_INTERRUPTED), (signal.SIGTERM, EXIT_TERMINATED)])

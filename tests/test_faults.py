@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import child_environment
+from conftest import as_in_a_terminal, child_environment
 
 from vibrofric import output
 from vibrofric.cli import EXIT_BAD_INPUT, main
@@ -165,11 +165,16 @@ def test_kill_harness_replacing_results_in_a_loop(tmp_path, seed):
     target = tmp_path / "R"
     for _ in range(5):
         child = subprocess.Popen([sys.executable, "-c", KILLED_WRITER, str(target)],
-                                 env=child_environment(), stdout=subprocess.PIPE, text=True)
-        assert child.stdout.readline() == "started\n"
-        time.sleep(rng.uniform(0.05, 0.4))
-        child.send_signal(rng.choice([signal.SIGINT, signal.SIGTERM, signal.SIGKILL]))
-        child.wait(timeout=30)
+                                 env=child_environment(), stdout=subprocess.PIPE, text=True,
+                                 preexec_fn=as_in_a_terminal)
+        try:
+            assert child.stdout.readline() == "started\n"
+            time.sleep(rng.uniform(0.05, 0.4))
+            child.send_signal(rng.choice([signal.SIGINT, signal.SIGTERM, signal.SIGKILL]))
+            child.wait(timeout=30)
+        finally:  # a writer that outlived its signal would loop on after the test
+            child.kill()
+            child.wait()
         if target.exists():
             n = (target / "summary.json").read_text()
             files = sorted(p.name for p in target.iterdir())
@@ -196,7 +201,7 @@ def test_signal_while_the_command_starts_ends_it_with_128_and_its_number(tmp_pat
     (SIGTERM), nothing written."""
     child = subprocess.run([sys.executable, "-c", STARTING_COMMAND.format(signal=name)],
                            cwd=tmp_path, env=child_environment(), capture_output=True, text=True,
-                           timeout=60)
+                           timeout=60, preexec_fn=as_in_a_terminal)
     assert child.returncode == code, child.stderr
     assert child.stderr == "vibrofric: interrupted while starting; nothing was written\n"
     assert "not ended" not in child.stdout and list(tmp_path.iterdir()) == []
@@ -211,7 +216,8 @@ def test_cli_kill_harness_force_replacement(tmp_path):
     for _ in range(4):
         child = subprocess.Popen([sys.executable, "-m", "vibrofric.cli", "analytic", SCENE, *SHORT,
                                   "--out", "R", "--force"], cwd=tmp_path, env=child_environment(),
-                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                 preexec_fn=as_in_a_terminal)
         time.sleep(rng.uniform(0.3, 3.0))
         child.send_signal(rng.choice([signal.SIGINT, signal.SIGTERM, signal.SIGKILL]))
         child.communicate(timeout=60)

@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 
 import pytest
+from conftest import as_in_a_terminal
 
 from vibrofric import output, plots
 from vibrofric import scene as scene_module
@@ -171,11 +172,6 @@ def wait_for_frames(process, home: Path, frames: int, timeout: float = 300) -> N
         assert time.monotonic() < deadline
         time.sleep(0.05)
 
-
-def as_in_a_terminal():
-    """Ctrl-C as a command started from a terminal has it (a test run in the
-    background inherits it ignored)."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 @pytest.mark.parametrize("how, said, code", [(signal.SIGINT, "(Ctrl-C)", 130),
