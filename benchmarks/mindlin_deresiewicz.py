@@ -9,14 +9,19 @@ rest, the base moving as u0 sin(2 pi f t), f = 500 Hz, 2.25 cycles; Q* and the l
 area W over the last cycle; the closed form at the measured Q*.
 
     PYTHONPATH=. python benchmarks/mindlin_deresiewicz.py [--sizes 1.5e-4 1e-4] [--q 0.3 0.6 0.9]
-        [--k_t 1e9] [--frequency 500] [--cycles 2.25]
+        [--k_t 1e9] [--frequency 500] [--cycles 2.25] [--ring 2.5e-5] [--before 0.25]
 
 (--k_t: the Dahl law's tangential stiffness for the whole patch, N/m, default
 pulled_ball.K_T, the column "k_t".) The column "Dahl's own" is what the law's
 pre-sliding adds in Mindlin's stick circle at the measured Q*, estimated on the closed
 forms (tests/pulled_ball.py presliding_loop), against eq 7.59. --frequency and --cycles
 change the base's cycle (pulled_ball.CYCLE_FREQUENCY, CYCLES: the loop is read over the
-last cycle).
+last cycle). --ring refines each ball further along the patch's edge r = a, to that
+element size within 0.12 a of it (pulled_ball.ball: Mindlin's slipping annulus at
+Q* = 0.3 mu P is 0.112 a wide), the step taken on that size; the column "pole mesh"
+then names both. --before adds the column "W earlier": the loop over the cycle that
+ends that many cycles before the run's end, against the last (a steady loop keeps its
+area).
 
 Prints a Markdown table (docs/validation.md, "Curved contacts").
 """
@@ -43,25 +48,34 @@ def main():
     parser.add_argument("--k_t", type=float, nargs="+", default=[pb.K_T])
     parser.add_argument("--frequency", type=float, default=pb.CYCLE_FREQUENCY)
     parser.add_argument("--cycles", type=float, default=pb.CYCLES)
+    parser.add_argument("--ring", type=float, default=None)
+    parser.add_argument("--before", type=float, default=None)
     args = parser.parse_args()
     a = pb.hertz_radius()
+    earlier = args.before is not None
     print("| pole mesh | nodes | k_t (N/m) | Q* / mu P | W FE (uJ) | W eq 7.59 (uJ) | error | "
-          "Dahl's own | s |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "Dahl's own | " + ("W earlier vs last | " if earlier else "") + "s |")
+    print("|---|---|---|---|---|---|---|---|" + ("---|" if earlier else "") + "---|")
     with tempfile.TemporaryDirectory() as directory:
         for size in args.sizes:
-            body = pb.ball(directory, size)
+            body = pb.ball(directory, size, args.ring)
+            mesh = f"{size * 1e6:.0f} um" + (f", {args.ring * 1e6:.0f} um at r = a"
+                                             if args.ring else "")
             for k_t, q in itertools.product(args.k_t, args.q):
                 start = time.perf_counter()
-                scene = pb.cycle_scene(q, pb.stable_step(size), args.frequency, args.cycles,
-                                       **{"contact.k_t": k_t})
+                scene = pb.cycle_scene(q, pb.stable_step(size, args.ring), args.frequency,
+                                       args.cycles, **{"contact.k_t": k_t})
                 result = pb.run(body, scene)
                 Q, W = pb.cycle_dissipation(result, args.frequency)
                 closed = cm.mindlin_deresiewicz_dissipation(Q, pb.MU, pb.LOAD, a, pb.E, pb.NU)
-                print(f"| {size * 1e6:.0f} um | {result.info['nodes']} | {k_t:.0e} | "
+                before = ""
+                if earlier:
+                    _, W_earlier = pb.cycle_dissipation(result, args.frequency, args.before)
+                    before = f"{W_earlier / W - 1:+.1%} | "
+                print(f"| {mesh} | {result.info['nodes']} | {k_t:.0e} | "
                       f"{Q / (pb.MU * pb.LOAD):.3f} | "
                       f"{W * 1e6:.2f} | {closed * 1e6:.2f} | {W / closed - 1:+.1%} | "
-                      f"{pb.presliding_loop(Q, k_t) / closed:.1%} | "
+                      f"{pb.presliding_loop(Q, k_t) / closed:.1%} | {before}"
                       f"{time.perf_counter() - start:.0f} |", flush=True)
 
 
