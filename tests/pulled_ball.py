@@ -286,9 +286,10 @@ def cycle_dissipation(result, frequency=CYCLE_FREQUENCY, before=0.0):
     amplitude (half its peak-to-peak, N) and the loop's area W = |oint Q d(x - x_b)|
     (trapezoids over every step's row, J): the work the holder's force Q does on the
     ball's displacement relative to the base, which only the slip dissipates (the bulk
-    is elastic; the damping's share at 500 Hz is ~3e-6 of the top mode's 6%). Q and x - x_b are averaged
-    over one period of the ball's ringing (as the pull's, quasi_static: +-1.3 N on Q*
-    ~ 30 N otherwise), the strongest line of Q above ten times the cycle's frequency."""
+    is elastic; the damping's share at 500 Hz is ~3e-6 of the top mode's 6%). Q and
+    x - x_b are averaged over one period of the ball's ringing (as the pull's,
+    quasi_static: +-1.3 N on Q* ~ 30 N otherwise), the strongest line of Q above ten
+    times the cycle's frequency."""
     s = result.series
     row = s.t[1] - s.t[0]
     spectrum = np.abs(np.fft.rfft(s.F_d - s.F_d.mean()))

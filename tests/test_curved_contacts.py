@@ -101,8 +101,10 @@ def test_the_held_ball_s_cycle_dissipates_mindlin_deresiewicz_s_energy(body):
     the measured Q* (pulled_ball.cycle_scene, cycle_dissipation). This fast mesh does NOT
     meet the closed form's 10%: it dissipates 31% more at Q* = 0.59 mu P; the 100 um mesh
     does, +5.7%, +4.9% and +2.9% at 0.29, 0.58 and 0.88, at 3 to 7 minutes a run here,
-    converged at 0.58 (70 um: +8.1%) but not at 0.29 (70 um: +20.3%)
-    (benchmarks/mindlin_deresiewicz.py, docs/validation.md). The bounds hold this mesh's
+    converged at 0.58 (70 um: +8.1%); at 0.29 the uniform meshes leave Mindlin's 58 um
+    slipping annulus under one element (70 um: +20.3%), and refined to 35, 25 and 20 um
+    along the patch's edge (pulled_ball.ball's ring) the loop at 0.28 reads +10.6%,
+    +6.4% and +4.6% (benchmarks/mindlin_deresiewicz.py --ring, docs/validation.md). The bounds hold this mesh's
     measured state, the loop above eq 7.59 and within 50% of it, so that a change to the
     contact that moves the loop shows; a loop below eq 7.59 would be a contact that
     sticks where Mindlin's slips."""
