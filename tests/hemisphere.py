@@ -17,13 +17,15 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vibrofric import meshes
+from vibrofric.meshes.refinement import GRADING
 
 
 @dataclass(frozen=True)
 class Ring:
     """A refinement along the circle of radius ``radius`` (m, from the pole's axis) on the
     spherical face: the element edge is ``size`` within ``half_width`` of that circle (the
-    distance in 3-D) and grows beyond it by GRADING per unit distance, up to the pole's."""
+    distance in 3-D) and grows beyond it by meshes.refinement's GRADING per unit distance
+    (neighbours ~25% apart: well-shaped tetrahedra), up to the pole's size."""
 
     radius: float
     size: float
@@ -31,11 +33,6 @@ class Ring:
 
     def name(self) -> str:
         return f"ring-{self.radius:g}-{self.size:g}-{self.half_width:g}"
-
-
-# a ring's element edge grows by at most this much per unit distance from its band (as
-# vibrofric.meshes.refinement's GRADING: neighbours ~25% apart, well-shaped tetrahedra)
-GRADING = 0.25
 
 
 def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=None, order=1,
