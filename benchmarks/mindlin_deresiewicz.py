@@ -9,14 +9,24 @@ rest, the base moving as u0 sin(2 pi f t), f = 500 Hz, 2.25 cycles; Q* and the l
 area W over the last cycle; the closed form at the measured Q*.
 
     PYTHONPATH=. python benchmarks/mindlin_deresiewicz.py [--sizes 1.5e-4 1e-4] [--q 0.3 0.6 0.9]
-        [--k_t 1e9] [--frequency 500] [--cycles 2.25]
+        [--k_t 1e9] [--frequency 500] [--cycles 2.25] [--ring 2.5e-5] [--before 0.25]
+        [--spring 1e8]
 
 (--k_t: the Dahl law's tangential stiffness for the whole patch, N/m, default
 pulled_ball.K_T, the column "k_t".) The column "Dahl's own" is what the law's
 pre-sliding adds in Mindlin's stick circle at the measured Q*, estimated on the closed
 forms (tests/pulled_ball.py presliding_loop), against eq 7.59. --frequency and --cycles
 change the base's cycle (pulled_ball.CYCLE_FREQUENCY, CYCLES: the loop is read over the
-last cycle).
+last cycle). --ring refines each ball further along the patch's edge r = a, to that
+element size within 0.12 a of it (pulled_ball.ball: Mindlin's slipping annulus at
+Q* = 0.3 mu P is 0.112 a wide), the step taken on that size; the column "pole mesh"
+then names both. --before adds the column "W earlier vs last": the loop over the cycle that
+ends that many cycles before the run's end, against the last (a steady loop keeps its
+area). --spring holds the ball's top through a drive spring of that stiffness (N/m,
+drive.mode = "spring") instead of prescribing it, so that the explicit integrator keeps
+its energy balance (fem.energy), and adds the columns "W base", "D fric" and "D damp":
+over the loop's cycle, the base's work on the ball and what the friction (its slip and
+Dahl's pre-sliding) and the damping dissipated, uJ.
 
 Prints a Markdown table (docs/validation.md, "Curved contacts").
 """
@@ -28,6 +38,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
@@ -43,26 +55,53 @@ def main():
     parser.add_argument("--k_t", type=float, nargs="+", default=[pb.K_T])
     parser.add_argument("--frequency", type=float, default=pb.CYCLE_FREQUENCY)
     parser.add_argument("--cycles", type=float, default=pb.CYCLES)
+    parser.add_argument("--ring", type=float, default=None)
+    parser.add_argument("--before", type=float, default=None)
+    parser.add_argument("--spring", type=float, default=None)
     args = parser.parse_args()
     a = pb.hertz_radius()
+    earlier = args.before is not None
+    spring = ({} if args.spring is None else
+              {"drive.mode": "spring", "drive.k_d": args.spring, "fem.energy": True})
+    balance = ("W base", "D fric", "D damp") if spring else ()
     print("| pole mesh | nodes | k_t (N/m) | Q* / mu P | W FE (uJ) | W eq 7.59 (uJ) | error | "
-          "Dahl's own | s |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          "Dahl's own | " + ("W earlier vs last | " if earlier else "")
+          + "".join(f"{name} | " for name in balance) + "s |")
+    print("|---|---|---|---|---|---|---|---|" + ("---|" if earlier else "")
+          + "---|" * len(balance) + "---|")
     with tempfile.TemporaryDirectory() as directory:
         for size in args.sizes:
-            body = pb.ball(directory, size)
+            body = pb.ball(directory, size, args.ring)
+            mesh = f"{size * 1e6:.0f} um" + (f", {args.ring * 1e6:.0f} um at r = a"
+                                             if args.ring else "")
             for k_t, q in itertools.product(args.k_t, args.q):
                 start = time.perf_counter()
-                scene = pb.cycle_scene(q, pb.stable_step(size), args.frequency, args.cycles,
-                                       **{"contact.k_t": k_t})
+                scene = pb.cycle_scene(q, pb.stable_step(size, args.ring), args.frequency,
+                                       args.cycles, **{"contact.k_t": k_t, **spring})
                 result = pb.run(body, scene)
                 Q, W = pb.cycle_dissipation(result, args.frequency)
                 closed = cm.mindlin_deresiewicz_dissipation(Q, pb.MU, pb.LOAD, a, pb.E, pb.NU)
-                print(f"| {size * 1e6:.0f} um | {result.info['nodes']} | {k_t:.0e} | "
+                cells = ""
+                if earlier:
+                    _, W_earlier = pb.cycle_dissipation(result, args.frequency, args.before)
+                    cells = f"{W_earlier / W - 1:+.1%} | "
+                if spring:
+                    cells += "".join(f"{work * 1e6:.3f} | " for work in
+                                      cycle_balance(result, args.frequency))
+                print(f"| {mesh} | {result.info['nodes']} | {k_t:.0e} | "
                       f"{Q / (pb.MU * pb.LOAD):.3f} | "
                       f"{W * 1e6:.2f} | {closed * 1e6:.2f} | {W / closed - 1:+.1%} | "
-                      f"{pb.presliding_loop(Q, k_t) / closed:.1%} | "
+                      f"{pb.presliding_loop(Q, k_t) / closed:.1%} | {cells}"
                       f"{time.perf_counter() - start:.0f} |", flush=True)
+
+
+def cycle_balance(result, frequency):
+    """(W_base, D_fric, D_damp) over the run's last cycle, J: the energy balance's columns
+    (fem.energy, recording.ENERGY) between the rows that bound it."""
+    s = result.series
+    rows = np.flatnonzero(s.t >= s.t[-1] - 1.0 / frequency - 0.5 * (s.t[1] - s.t[0]))
+    return tuple(float(s.extra[name][rows[-1]] - s.extra[name][rows[0]])
+                 for name in ("W_base", "D_fric", "D_damp"))
 
 
 if __name__ == "__main__":

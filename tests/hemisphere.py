@@ -5,22 +5,46 @@ gmsh (OpenCASCADE): a sphere of radius R cut by a box to its lower half, meshed 
 first-order tetrahedra of size ``pole_size`` within ``fine_radius`` of the pole,
 growing linearly to ``size`` at twice that distance; placed with the pole on z = 0.
 Groups: "contact" the spherical face, "load" the flat top face (z = R), the volume.
+
+A ``ring`` (Ring) refines further along a circle of the spherical face around the pole:
+the contact patch's edge r = a, where Mindlin's slipping annulus lives (Johnson,
+"Contact Mechanics", 1985, eq 7.40: c = a (1 - Q / mu P)^(1/3), the annulus a - c only
+0.11 a wide at Q = 0.3 mu P), without refining the whole pole region.
 """
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 from vibrofric import meshes
+from vibrofric.meshes.refinement import GRADING
+
+
+@dataclass(frozen=True)
+class Ring:
+    """A refinement along the circle of radius ``radius`` (m, from the pole's axis) on the
+    spherical face: the element edge is ``size`` within ``half_width`` of that circle (the
+    distance in 3-D) and grows beyond it by meshes.refinement's GRADING per unit distance
+    (neighbours ~25% apart: well-shaped tetrahedra), up to the pole's size."""
+
+    radius: float
+    size: float
+    half_width: float
+
+    def name(self) -> str:
+        return f"ring-{self.radius:g}-{self.size:g}-{self.half_width:g}"
 
 
 def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=None, order=1,
-               drive=False):
+               drive=False, ring=None):
     """A BodyMesh of the hemisphere written to ``directory``/hemisphere-....msh (its cells
     of gmsh's ``order``: 2 for the refusal of second-order cells). With ``drive`` the flat
     top is also the "drive" group (drive.attach = "drive-group"): the tangential load of
-    the Cattaneo-Mindlin checks acts where the normal load does, far from the contact."""
+    the Cattaneo-Mindlin checks acts where the normal load does, far from the contact.
+    ``ring`` (a Ring, or None) refines along a circle around the pole as well."""
     size = radius / 4 if size is None else size
-    name = f"hemisphere-{radius:g}-{pole_size:g}-{fine_radius:g}-{size:g}-{order}"
+    name = (f"hemisphere-{radius:g}-{pole_size:g}-{fine_radius:g}-{size:g}-{order}"
+            + (f"-{ring.name()}" if ring else ""))
     path = Path(directory) / f"{name}.msh"
     with meshes.gmsh_model("hemisphere") as gmsh:
         occ = gmsh.model.occ
@@ -49,7 +73,20 @@ def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=No
         field.setNumber(threshold, "SizeMax", size)
         field.setNumber(threshold, "DistMin", fine_radius)
         field.setNumber(threshold, "DistMax", 2 * fine_radius + size)
-        field.setAsBackgroundMesh(threshold)
+        if ring is None:
+            field.setAsBackgroundMesh(threshold)
+        else:
+            # the distance to the circle of radius rho on the sphere, at the height
+            # z_c = R - sqrt(R^2 - rho^2) (the centre at z = R)
+            rho = ring.radius
+            z_c = radius - math.sqrt(radius * radius - rho * rho)
+            distance = f"Sqrt((Sqrt(x*x + y*y) - {rho!r})^2 + (z - {z_c!r})^2)"
+            band = field.add("MathEval")
+            field.setString(band, "F", f"{ring.size!r} + {GRADING!r} * "
+                                       f"Max(0, {distance} - {ring.half_width!r})")
+            finest = field.add("Min")
+            field.setNumbers(finest, "FieldsList", [threshold, band])
+            field.setAsBackgroundMesh(finest)
         for option in ("MeshSizeFromPoints", "MeshSizeFromCurvature", "MeshSizeExtendFromBoundary"):
             gmsh.option.setNumber(f"Mesh.{option}", 0)
         gmsh.model.mesh.generate(3)
@@ -61,7 +98,9 @@ def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=No
     return meshes.BodyMesh(path=path, facet_groups=groups, cell_group=1,
                            volume=2.0 / 3.0 * math.pi * radius ** 3,
                            key=name + ("-drive" if drive else ""),
-                           description=f"hemisphere R = {radius:g} m, {pole_size:g} m at its pole")
+                           description=f"hemisphere R = {radius:g} m, {pole_size:g} m at its pole"
+                                       + (f", {ring.size:g} m within {ring.half_width:g} m of "
+                                          f"r = {ring.radius:g} m" if ring else ""))
 
 
 def hertz(E, nu, radius, load):

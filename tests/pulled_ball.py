@@ -47,7 +47,7 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
-from hemisphere import INNER, hemisphere
+from hemisphere import INNER, Ring, hemisphere
 
 from vibrofric import scene as scenes
 from vibrofric.analytic import contact_mechanics as cm
@@ -72,15 +72,25 @@ def hertz_radius() -> float:
     return cm.hertz_radius(LOAD, RADIUS, E, NU)
 
 
-def ball(directory, pole_size):
-    """The hemisphere of pole mesh ``pole_size`` (m) with its top as the drive group."""
-    return hemisphere(directory, RADIUS, pole_size, FINE_RADIUS, drive=True)
+# A ring's band: within 0.12 a of the circle r = a, Mindlin's slipping annulus at
+# Q* = 0.3 mu P (a - c = 0.112 a, Johnson eq 7.40) and the patch's edge
+RING_HALF_WIDTH = 0.12
 
 
-def stable_step(pole_size) -> float:
-    """The explicit step taken on the pole mesh ``pole_size``, s: 0.7 of the stable step
-    fe_model reports (2.1e-8 s at 150 um, 1.5e-8 s at 100 um), which scales with the size."""
-    return 1.4e-8 * pole_size / 1e-4
+def ball(directory, pole_size, ring_size=None):
+    """The hemisphere of pole mesh ``pole_size`` (m) with its top as the drive group; with
+    ``ring_size`` (m) refined further to that edge within RING_HALF_WIDTH a of the patch's
+    edge r = a (hemisphere.Ring)."""
+    a = hertz_radius()
+    ring = None if ring_size is None else Ring(a, ring_size, RING_HALF_WIDTH * a)
+    return hemisphere(directory, RADIUS, pole_size, FINE_RADIUS, drive=True, ring=ring)
+
+
+def stable_step(pole_size, ring_size=None) -> float:
+    """The explicit step taken on the pole mesh ``pole_size`` (and ``ring_size``), s: 0.7 of
+    the stable step fe_model reports (2.1e-8 s at 150 um, 1.5e-8 s at 100 um), which scales
+    with the smallest element."""
+    return 1.4e-8 * min(pole_size, ring_size or pole_size) / 1e-4
 
 
 def pull_scene(mu, T, dt, **values):
@@ -269,15 +279,17 @@ def cycle_scene(q, dt, frequency=CYCLE_FREQUENCY, cycles=CYCLES, **values):
         "time.average_cycles": 1, **values})
 
 
-def cycle_dissipation(result, frequency=CYCLE_FREQUENCY):
+def cycle_dissipation(result, frequency=CYCLE_FREQUENCY, before=0.0):
     """(Q*, W): over the run's last whole cycle (the last 1 / f of the averaged rows, the
-    run at least 1.25 cycles long), the tangential load's amplitude (half its
-    peak-to-peak, N) and the loop's area W = |oint Q d(x - x_b)| (trapezoids over every
-    step's row, J): the work the holder's force Q does on the ball's displacement
-    relative to the base, which only the slip dissipates (the bulk is elastic; the
-    damping's share at 500 Hz is ~3e-6 of the top mode's 6%). Q and x - x_b are averaged
-    over one period of the ball's ringing (as the pull's, quasi_static: +-1.3 N on Q*
-    ~ 30 N otherwise), the strongest line of Q above ten times the cycle's frequency."""
+    run at least 1.25 cycles long; with ``before`` the cycle that ends that many cycles
+    before the run's end, its start still past the first quarter), the tangential load's
+    amplitude (half its peak-to-peak, N) and the loop's area W = |oint Q d(x - x_b)|
+    (trapezoids over every step's row, J): the work the holder's force Q does on the
+    ball's displacement relative to the base, which only the slip dissipates (the bulk
+    is elastic; the damping's share at 500 Hz is ~3e-6 of the top mode's 6%). Q and
+    x - x_b are averaged over one period of the ball's ringing (as the pull's,
+    quasi_static: +-1.3 N on Q* ~ 30 N otherwise), the strongest line of Q above ten
+    times the cycle's frequency."""
     s = result.series
     row = s.t[1] - s.t[0]
     spectrum = np.abs(np.fft.rfft(s.F_d - s.F_d.mean()))
@@ -286,10 +298,11 @@ def cycle_dissipation(result, frequency=CYCLE_FREQUENCY):
     rows = max(1, int(round(1.0 / frequencies[fast][spectrum[fast].argmax()] / row)))
     window = np.ones(rows) / rows
     t, Q, relative = (np.convolve(y, window, "valid") for y in (s.t, s.F_d, s.x - s.x_b))
-    if s.t[-1] < (1.25 - 1e-6) / frequency:
+    if s.t[-1] < (1.25 + before - 1e-6) / frequency:
         raise ValueError(f"a run of {s.t[-1]:g} s holds no whole cycle at {frequency:g} Hz "
-                         "after its first quarter")
-    cycle = t >= t[-1] - 1.0 / frequency - 0.5 * row
+                         f"after its first quarter, {before:g} cycles before its end")
+    end = t[-1] - before / frequency
+    cycle = (t >= end - 1.0 / frequency - 0.5 * row) & (t <= end + 0.5 * row)
     Q, relative = Q[cycle], relative[cycle]
     return 0.5 * (Q.max() - Q.min()), abs(float(np.trapz(Q, relative)))
 
