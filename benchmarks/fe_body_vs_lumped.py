@@ -33,8 +33,16 @@ one row a body of every integrator's answer and wall time (measured on the machi
 runs on), the explicit one at EXPLICIT_FRACTION of its stable step (the scenes' 1e-6 s
 is refused).
 
+With --steady, the held ball's steady answer (its orbit by shooting, time.method
+"periodic") under the reduced integrator at each of STEADY_STEPS: F_dv/F_d0, the
+wall time (the model from its cache, VIBROFRIC_CACHE, if an earlier run left it: run
+twice to time the answer rather than the reduction), the contact iteration's estimated
+contraction, whether it was accelerated (docs/fe-model.md, "How an implicit step
+works") and its iterations a step.
+
     .venv/bin/python benchmarks/fe_body_vs_lumped.py [--mesh coarse] [--fe]
     .venv/bin/python benchmarks/fe_body_vs_lumped.py --integrators
+    .venv/bin/python benchmarks/fe_body_vs_lumped.py --steady --mesh fine
 
 prints markdown tables.
 """
@@ -58,6 +66,7 @@ RIGID = 1e6   # k_t times this holds the patch's nodes: the body's compliance al
 RIGID_E = 100.0   # body.E times this: the body's compliance 100 times below the law's
 INTEGRATORS = ("explicit", "implicit", "reduced", "auto")
 EXPLICIT_FRACTION = 0.9   # of the model's stable step: the explicit integrator's time.dt
+STEADY_STEPS = (5e-6, 2.5e-6, 1e-6)   # s: the reduced integrator's, for --steady
 
 
 def contact_stiffness(model, k_t: float) -> float:
@@ -145,14 +154,41 @@ def integrators(args) -> None:
         print(f"| {name} | " + " | ".join(cells) + " |")
 
 
+def steady(args) -> None:
+    print("| mesh | time.dt | F_dv/F_d0 | wall | contraction | accelerated | "
+          "iterations a step (mean, max) | shooting (Newton, cycles) |")
+    print("|---|---|---|---|---|---|---|---|")
+    scene = load_scene("ball", **{"fem.mesh": args.mesh})
+    for dt in STEADY_STEPS:
+        start = time.perf_counter()
+        try:
+            result = run_fe(scene.with_values({"fem.integrator": "reduced", "time.dt": dt,
+                                               "time.method": "periodic",
+                                               "time.error_estimate": False,
+                                               "fem.output_every": 0}))
+        except (NumericalError, Refusal) as error:
+            print(f"| {args.mesh} | {dt:g} | fails ({str(error)[:120]}...) |||||")
+            continue
+        info, wall = result.info, time.perf_counter() - start
+        shooting = info.get("periodic") or {}
+        print(f"| {args.mesh} | {dt:g} | {answer_ratio(result, scene):.4f} | {wall:.1f} s | "
+              f"{info['contraction_bound']:.2f} | {info['contact_accelerated']} | "
+              f"{info['iterations_mean']:.1f}, {info['iterations_max']} | "
+              f"{shooting.get('newton_iterations')}, {shooting.get('cycles_integrated')} |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mesh", default="coarse")
     parser.add_argument("--fe", action="store_true", help="run the FE model too")
     parser.add_argument("--integrators", action="store_true",
                         help="instead: every integrator on each body")
+    parser.add_argument("--steady", action="store_true",
+                        help="instead: the held ball's steady answer, reduced, at STEADY_STEPS")
     args = parser.parse_args()
-    if args.integrators:
+    if args.steady:
+        steady(args)
+    elif args.integrators:
         integrators(args)
     else:
         comparison(args)
