@@ -8,7 +8,6 @@ integrators is the explicit central-difference baseline at dt = 1e-6 s.
 
 import dataclasses
 import math
-import re
 from pathlib import Path
 
 import numpy as np

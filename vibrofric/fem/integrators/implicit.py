@@ -209,7 +209,7 @@ STEP_HALVINGS = 8
 
 def working_step(scene, model, system: LinearSystem):
     """The largest time.dt / 2^k (k <= STEP_HALVINGS) whose estimated contraction is
-    within MAX_CONTRACTION, or None. A shorter step lets the mass c_M M outweigh
+    within MAX_ACCELERATED_CONTRACTION, or None. A shorter step lets the mass c_M M outweigh
     the contact in A, and G with it; the law's departure is taken at that step
     (LuGre's grows as its dampings act over shorter steps)."""
     dofs = system.contact_dofs.ravel()
