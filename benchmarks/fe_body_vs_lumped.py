@@ -37,12 +37,13 @@ With --steady, the held ball's steady answer (its orbit by shooting, time.method
 "periodic") under the reduced integrator at each of STEADY_STEPS: F_dv/F_d0, the
 wall time (the model from its cache, VIBROFRIC_CACHE, if an earlier run left it: run
 twice to time the answer rather than the reduction), the contact iteration's estimated
-contraction, whether it was accelerated (docs/fe-model.md, "How an implicit step
-works") and its iterations a step.
+contraction and whether it was accelerated (docs/fe-model.md, "How an implicit step
+works"), the shooting's loop time and its time a step (its iterations a step are not
+reported for a shooting: a stepped run's fe_info has them, iterations_mean).
 
     .venv/bin/python benchmarks/fe_body_vs_lumped.py [--mesh coarse] [--fe]
     .venv/bin/python benchmarks/fe_body_vs_lumped.py --integrators
-    .venv/bin/python benchmarks/fe_body_vs_lumped.py --steady --mesh fine
+    .venv/bin/python benchmarks/fe_body_vs_lumped.py --steady --mesh fine [--dt 5e-6]
 
 prints markdown tables.
 """
@@ -155,11 +156,11 @@ def integrators(args) -> None:
 
 
 def steady(args) -> None:
-    print("| mesh | time.dt | F_dv/F_d0 | wall | contraction | accelerated | "
-          "iterations a step (mean, max) | shooting (Newton, cycles) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| mesh | time.dt | F_dv/F_d0 | wall | loop | a step | contraction | accelerated | "
+          "shooting (Newton, cycles) |")
+    print("|---|---|---|---|---|---|---|---|---|")
     scene = load_scene("ball", **{"fem.mesh": args.mesh})
-    for dt in STEADY_STEPS:
+    for dt in args.dt or STEADY_STEPS:
         start = time.perf_counter()
         try:
             result = run_fe(scene.with_values({"fem.integrator": "reduced", "time.dt": dt,
@@ -167,13 +168,13 @@ def steady(args) -> None:
                                                "time.error_estimate": False,
                                                "fem.output_every": 0}))
         except (NumericalError, Refusal) as error:
-            print(f"| {args.mesh} | {dt:g} | fails ({str(error)[:120]}...) |||||")
+            print(f"| {args.mesh} | {dt:g} | fails ({str(error)[:120]}...) |||||||")
             continue
         info, wall = result.info, time.perf_counter() - start
         shooting = info.get("periodic") or {}
         print(f"| {args.mesh} | {dt:g} | {answer_ratio(result, scene):.4f} | {wall:.1f} s | "
+              f"{info['loop_time_s']:.1f} s | {1e3 * info['loop_time_s'] / info['steps']:.1f} ms | "
               f"{info['contraction_bound']:.2f} | {info['contact_accelerated']} | "
-              f"{info['iterations_mean']:.1f}, {info['iterations_max']} | "
               f"{shooting.get('newton_iterations')}, {shooting.get('cycles_integrated')} |")
 
 
@@ -185,6 +186,8 @@ def main() -> None:
                         help="instead: every integrator on each body")
     parser.add_argument("--steady", action="store_true",
                         help="instead: the held ball's steady answer, reduced, at STEADY_STEPS")
+    parser.add_argument("--dt", type=float, action="append",
+                        help="with --steady: this time.dt (s) instead (repeatable)")
     args = parser.parse_args()
     if args.steady:
         steady(args)
