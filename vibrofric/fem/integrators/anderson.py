@@ -8,9 +8,10 @@ differences dX = [x_{i+1} - x_i], dF = [f_{i+1} - f_i] and step instead to
     x_{k+1} = x_k + f_k - (dX + dF) gamma_k,   gamma_k = argmin || f_k - dF gamma ||_2
 
 the step of the combination of the last m + 1 iterates whose linearized step is
-smallest. On a linear map x -> B x + c it is GMRES on (I - B) x = c (Walker & Ni,
-Theorem 2.2): it converges where the plain iteration's contraction factor nears
-or passes 1, within m + 1 evaluations of each slow direction. The contact
+smallest. On a linear map x -> B x + c, the whole history kept (m at least the
+iterations), it is GMRES on (I - B) x = c (Walker & Ni, Theorem 2.2): it converges
+where the plain iteration's contraction factor nears or passes 1; truncated to the
+last m, it still removes the few slowest directions that dominate. The contact
 iteration (contact_solve.iterate_contact) takes it only on scenes whose
 estimated contraction is beyond the plain iteration's (docs/fe-model.md, "How an
 implicit step works"); compiled once for all friction laws.
