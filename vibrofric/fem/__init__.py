@@ -34,6 +34,7 @@ integrators/  the time integrators that step the model, and the periodic solver 
                  and friction solved in the step (numba)
     generalized_alpha  the scheme's coefficients, the linear system, the contact tangent
     contact_solve  the contact inside an implicit step: forces at a trial state, the iteration
+    anderson     Anderson acceleration of that iteration, where it would crawl
     borrowed     arrays without reference counts, for the compiled loops
     step_cost    what a step of each integrator costs, for "auto"
     reduction    Craig-Bampton reduction of the block to its contact face, and its

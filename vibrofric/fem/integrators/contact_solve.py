@@ -1,7 +1,8 @@
 """The contact inside an implicit step: every contact node's forces at trial
 displacements, and the iteration that makes them consistent with the step
-(the fixed point in the contact space, Newton on the critical nodes;
-docs/fe-model.md, "The implicit integrators", explains why it converges).
+(the fixed point in the contact space, Newton on the critical nodes, Anderson's
+acceleration past the plain iteration's reach; docs/fe-model.md, "How an implicit
+step works", explains why it converges).
 
 This is the part of an implicit step that calls the friction law, compiled
 for each law (friction_law/specialize.py); the rest of the step is compiled
@@ -31,6 +32,7 @@ from ...friction_law.contract import FASTMATH
 from ..model.contact import node_contact
 from ..model.drive import attachment_xy, prescribed_position
 from ..model.linalg import apply
+from .anderson import accelerated_step
 
 # Convergence of the contact iteration: the change of every contact
 # displacement below this fraction of F_N / k_t (~7e-13 m on the paper's
@@ -58,9 +60,11 @@ CRITICAL = 0.25
 FD_STEP = 1e-4
 # The friction law runs on at least this many sub-steps a vibration cycle (implicit_substeps).
 SUBSTEPS_PER_CYCLE = 100
-# Refuse a scene whose estimated contraction factor is above this (at 0.5 the
-# iteration needs ~25 steps; beyond, it may not converge).
+# Above this estimated contraction factor the iteration is accelerated (anderson.py:
+# at 0.5 the plain one needs ~25 iterations, and more as the factor nears 1). Above 1
+# the bound no longer says the map contracts in every direction: refused.
 MAX_CONTRACTION = 0.5
+MAX_ACCELERATED_CONTRACTION = 1.0
 # What iterate_contact returns: converged; stalled on a contact kink and taken at its best
 # iterate (within STALL_FACTOR of the tolerance); not converged.
 CONVERGED, STALLED, NOT_CONVERGED = range(3)
@@ -443,7 +447,9 @@ def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, 
     contact_residual with a Newton step on the critical nodes (newton_correction)
     for up to scheme.max_iterations, then the plain fixed point for
     FALLBACK_ITERATIONS more, until no contact displacement nor x_A changes by
-    more than scheme.tolerance. Returns (CONVERGED, STALLED or NOT_CONVERGED,
+    more than scheme.tolerance. With an accelerator in work.history (a scene whose
+    estimated contraction is past MAX_CONTRACTION: implicit.ImplicitRun) each step is
+    Anderson's (anderson.py) and the Newton steps are not halved. Returns (CONVERGED, STALLED or NOT_CONVERGED,
     iterations, F_d, F_hold, sum N, sum F_x, sum F_y); work holds g, the target
     q_c and the trial states and forces of the last evaluation.
     """
@@ -465,6 +471,8 @@ def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, 
         hg += h[p] * g_prev[p]
     x_a = x_a_best = y_a + af1 * (hg + e * g_prev[nc])
     converged = False
+    accelerated = work.history.dx.shape[0] > 0
+    count = 0                   # the accelerator's pairs since its restart
     iterations = 0
     residual_old = best = np.inf
     factor = 1.0
@@ -480,7 +488,8 @@ def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, 
             for p in range(nc):     # (element by element: a slice copy compiles numba's
                 qc_best[p] = qc[p]  # shape-mismatch message into every law's loop)
             x_a_best = x_a
-        if newton and residual >= residual_old and factor > MIN_STEP:
+        if (newton and not accelerated and residual >= residual_old
+                and factor > MIN_STEP):
             # No progress (a Newton step across a contact kink): halve it.
             factor *= 0.5
             for p in range(nc):
@@ -495,8 +504,17 @@ def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, 
         change = abs(x_a_new - x_a)
         for p in range(nc):
             change = max(change, abs(delta[p]))
-            qc[p] += delta[p]
-        x_a = x_a_new
+        if accelerated and change > tolerance:
+            # the step past the plain one's reach (anderson.py); restarted where the
+            # Newton steps end, the map they iterate changing there
+            if iterations == scheme.max_iterations + 1:
+                count = 0
+            x_a = _accelerate(qc, x_a, delta, x_a_new, count, work.history)
+            count += 1
+        else:
+            for p in range(nc):
+                qc[p] += delta[p]
+            x_a = x_a_new
         residual_old = residual
         factor = 1.0
         if change <= tolerance:
@@ -513,6 +531,22 @@ def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, 
         qc, x_a_best, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
         drive_now, scheme, states, work)
     return STALLED, iterations, f_d, f_hold, f_n, f_x, f_y
+
+
+@njit(cache=True, error_model="numpy", fastmath=FASTMATH)
+def _accelerate(qc, x_a, delta, x_a_new, count, history):
+    """Advance the iterate (qc, x_a) by Anderson's step (anderson.accelerated_step) in
+    place of the plain (delta, x_a_new - x_a); returns the new x_a."""
+    nc = qc.shape[0]
+    x, f = history.x, history.f
+    for p in range(nc):
+        x[p] = qc[p]
+        f[p] = delta[p]
+    x[nc], f[nc] = x_a, x_a_new - x_a
+    accelerated_step(x, f, count, history)
+    for p in range(nc):
+        qc[p] += f[p]
+    return x_a + f[nc]
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)

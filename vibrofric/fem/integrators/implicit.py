@@ -39,8 +39,10 @@ from ...core.law_limits import slip_per_step
 from ...friction_law import law_kernel
 from ...friction_law.contract import FASTMATH
 from ..outputs import energy, recording, trouble
+from .anderson import DEPTH, History
 from .borrowed import borrowed
-from .contact_solve import (ITERATION_TOLERANCE, MAX_CONTRACTION, MAX_ITERATIONS, NOT_CONVERGED,
+from .contact_solve import (ITERATION_TOLERANCE, MAX_ACCELERATED_CONTRACTION, MAX_CONTRACTION,
+                            MAX_ITERATIONS, NOT_CONVERGED,
                             STALLED, ContactData, StepStart, base_over_substeps, commit_contact,
                             implicit_substeps, iterate_contact, normal_over_substeps,
                             still_substeps, table_over_substeps)
@@ -96,16 +98,18 @@ class Work(NamedTuple):
     base_free: np.ndarray   # (substeps,) the free end's: eta_y dy_b (eq 30)
     base_z: np.ndarray      # (substeps,) the base's Z and Z velocity at the sub-steps' ends
     base_vz: np.ndarray
+    history: History        # the contact iteration's accelerator (depth 0: none)
 
     @classmethod
-    def allocate(cls, n: int, contacts: int, substeps: int, state_size: int) -> "Work":
+    def allocate(cls, n: int, contacts: int, substeps: int, state_size: int,
+                 depth: int) -> "Work":
         nc = 3 * contacts
         return cls(*(np.empty(n) for _ in range(9)), np.empty(nc + 2),
                    *(np.empty(nc) for _ in range(6)),
                    np.empty((contacts, state_size)), np.empty(state_size),
                    np.empty(contacts), np.empty((contacts, 2)),
                    np.empty(nc), np.empty(contacts, dtype=np.int64), np.empty(3),
-                   *(np.empty(substeps) for _ in range(4)))
+                   *(np.empty(substeps) for _ in range(4)), History.allocate(nc + 1, depth))
 
 
 class Operators(NamedTuple):
@@ -208,7 +212,7 @@ STEP_HALVINGS = 8
 
 def working_step(scene, model, system: LinearSystem):
     """The largest time.dt / 2^k (k <= STEP_HALVINGS) whose estimated contraction is
-    within MAX_CONTRACTION, or None. A shorter step lets the mass c_M M outweigh
+    within MAX_ACCELERATED_CONTRACTION, or None. A shorter step lets the mass c_M M outweigh
     the contact in A, and G with it; the law's departure is taken at that step
     (LuGre's grows as its dampings act over shorter steps)."""
     dofs = system.contact_dofs.ravel()
@@ -219,7 +223,8 @@ def working_step(scene, model, system: LinearSystem):
         held = contact_tangent(model, trial, scheme.c_v) * assumed
         G = columns_of_inverse(factorized(system, model, system_matrix(system, model, scheme,
                                                                        held)), dofs)
-        if contraction(G, held, scheme.alpha_f, trial.law_bounds.departure) <= MAX_CONTRACTION:
+        if (contraction(G, held, scheme.alpha_f, trial.law_bounds.departure)
+                <= MAX_ACCELERATED_CONTRACTION):
             return trial.time.dt
     return None
 
@@ -281,13 +286,16 @@ class ImplicitRun(TimeLoop):
         self.Z = np.ascontiguousarray(self.Z)
         self.factor_time = time.perf_counter() - start
         self.contraction = contraction(self.G, held, alpha_f, scene.law_bounds.departure)
-        if self.contraction > MAX_CONTRACTION:
+        # beyond the plain iteration's reach, Anderson's (contact_solve.iterate_contact)
+        self.accelerated = bool(self.contraction > MAX_CONTRACTION)
+        if self.contraction > MAX_ACCELERATED_CONTRACTION:
             working = working_step(scene, model, system)
             advice = (f"use time.dt <= {working:.3g} s" if working is not None
                       else "use a much smaller time.dt")
             raise StepTooLong(f"time step {t.dt:g} s is too long for the {name} integrator's "
                               f"contact iteration (estimated contraction "
-                              f"{self.contraction:.2f} > {MAX_CONTRACTION}: the friction law "
+                              f"{self.contraction:.2f} > {MAX_ACCELERATED_CONTRACTION}: the "
+                              "friction law "
                               "departs from the tangent k_t w_i that the matrix holds, most "
                               "for a contact as stiff as the block or for LuGre's dampings "
                               "over a long step): " + advice)
@@ -308,7 +316,8 @@ class ImplicitRun(TimeLoop):
                 "factor_time_s": self.factor_time,
                 "friction_substeps": self.substeps,
                 "slip_per_step": slip_per_step(self.scene),
-                "contraction_bound": self.contraction}
+                "contraction_bound": self.contraction,
+                "contact_accelerated": self.accelerated}
 
     @property
     def hint(self) -> str:
@@ -329,7 +338,8 @@ class ImplicitRun(TimeLoop):
         g_prev = np.zeros(nc + 2)   # g at the preload: q = 0, f_c = (0, 0, N0), F_d = 0
         g_prev[2:nc:3] = model.normal0
         sums = np.zeros(SUMS)
-        work = Work.allocate(n, contacts, self.substeps, law.law.state_size)
+        work = Work.allocate(n, contacts, self.substeps, law.law.state_size,
+                             DEPTH if self.accelerated else 0)
 
         others = np.setdiff1d(np.arange(n), system.contact_dofs.ravel())
         operators = Operators(self.mass_op, self.stiffness_op, self.inv, self.Z, self.G, self.h,
