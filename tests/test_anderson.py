@@ -2,6 +2,7 @@
 on linear maps, where it is GMRES (Walker & Ni 2011), and inside the implicit step,
 where it runs only on scenes beyond the plain iteration's estimated contraction."""
 
+import contextlib
 from pathlib import Path
 
 import numpy as np
@@ -81,18 +82,26 @@ def comm():
     return MPI.COMM_SELF
 
 
+@contextlib.contextmanager
+def contraction_threshold(value):
+    """implicit.MAX_CONTRACTION, the estimate past which the iteration is accelerated,
+    set to ``value`` for the runs inside (a module fixture has no monkeypatch)."""
+    threshold = implicit.MAX_CONTRACTION
+    implicit.MAX_CONTRACTION = value
+    try:
+        yield
+    finally:
+        implicit.MAX_CONTRACTION = threshold
+
+
 @pytest.fixture(scope="module")
 def plain_and_forced(comm):
     """The coarse block, reduced at 1e-5 s (contraction ~0.004, the plain iteration's):
     as shipped, and with the accelerator forced on (its threshold lowered to 0)."""
     scene = scenes.load(LONGITUDINAL, [*SHORT, 'fem.integrator="reduced"', "time.dt=1e-5"])
     plain = run_fe(scene, comm)
-    threshold = implicit.MAX_CONTRACTION
-    implicit.MAX_CONTRACTION = 0.0
-    try:
+    with contraction_threshold(0.0):
         forced = run_fe(scene, comm)
-    finally:
-        implicit.MAX_CONTRACTION = threshold
     return scene, plain, forced
 
 
@@ -123,12 +132,8 @@ def test_past_the_plain_iterations_reach_the_accelerated_one_takes_fewer_iterati
     scene = scenes.load(LONGITUDINAL, [*SHORT, 'fem.integrator="reduced"', "time.dt=1e-5",
                                        "contact.k_t=8e9", "fem.damping=1e-6"])
     accelerated = run_fe(scene, comm)
-    threshold = implicit.MAX_CONTRACTION
-    implicit.MAX_CONTRACTION = 1.0
-    try:
+    with contraction_threshold(1.0):
         plain = run_fe(scene, comm)
-    finally:
-        implicit.MAX_CONTRACTION = threshold
     assert accelerated.info["contact_accelerated"] and not plain.info["contact_accelerated"]
     answer, again = (summarize(run.series, scene, 0.0)["F_dv_over_F_d0"] for run in
                      (plain, accelerated))
