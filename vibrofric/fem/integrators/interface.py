@@ -27,7 +27,7 @@ basis each: ``Watch``) are checked after every step (``watched_contact``), and a
 run in which one closes stops (core.errors.ContactBeyondInterface, through
 outputs/trouble.py): nothing is silently wrong.
 
-The run itself sees the interface's model (``interface_model``: the FEModel with
+The run itself sees the interface's model (``Interface.model``: the FEModel with
 its contact arrays restricted to the kept candidates); what it hands back is on
 every candidate again (``Interface.full_state``, ``full_normals``): the others
 open, their friction laws at rest.
