@@ -94,10 +94,10 @@ def normal_oscillation_ratio(v_tilde: float, alpha: float) -> float:
     def gap(tau):   # the limit above the stuck spring's line, over alpha (positive while stuck)
         return math.cos(tau) - math.cos(tau_1) - v_tilde * (tau - tau_1)
 
-    # gap rises from 0 at tau_1 up to where the limit's rise falls back to the spring's
-    # rate; one cycle on the line is above the limit
-    low = max(tau_1, 2.0 * math.pi - math.asin(v_tilde))
-    high = tau_1 + 2.0 * math.pi                              # gap > 0 at low, <= 0 at high
+    # gap rises from 0 at tau_1 (<= 3 pi / 2, the landing too) while the limit rises
+    # faster than the spring, up to 2 pi - arcsin v_tilde; a cycle on, the line is above
+    # the limit
+    low, high = 2.0 * math.pi - math.asin(v_tilde), tau_1 + 2.0 * math.pi  # gap > 0, <= 0
     for _ in range(200):            # bisection to the float's resolution
         middle = 0.5 * (low + high)
         if middle in (low, high):
