@@ -29,7 +29,7 @@ indentation, clipped at 0 (the dashpot leads it by 2 zeta_n r = 0.002 rad); the 
 sinks until the contact carries F_N on average, which sets the indentation's mean d_0
 (k_n d_0 mean_contact_load(alpha) = F_N). Dahl's law at exponent 0, 2000 steps a cycle.
 
-    PYTHONPATH=. python benchmarks/popov_normal.py        # ~1 min; prints both markdown tables
+    PYTHONPATH=. python benchmarks/popov_normal.py        # prints both markdown tables
 """
 
 import math
