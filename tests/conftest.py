@@ -102,18 +102,3 @@ def own_model_cache(tmp_path_factory):
     patch.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
     yield
     patch.undo()
-
-
-def model_at_rest(scene):
-    """The FE model of ``scene``; the test skipped where this gmsh's mesh leaves the
-    preload's patch unsettled (PatchUnresolved, the run's one-line refusal: gmsh 4.15's
-    coarse ball unheld rocks among 26 nodes, gmsh 4.8's rests on one): the tests that
-    call this need the body at rest."""
-    from vibrofric.core.errors import PatchUnresolved
-    from vibrofric.fem.model import fe_model
-
-    try:
-        return fe_model.build_model(scene, None)
-    except PatchUnresolved as unresolved:
-        import gmsh
-        pytest.skip(f"gmsh {gmsh.__version__}'s mesh of {scene.body.shape}: {unresolved}")

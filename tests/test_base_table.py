@@ -295,23 +295,37 @@ def test_the_examples_motion_file_is_the_papers_sine(load_scene):
     assert math.isclose(t[-1, 0] * paper.vibration.f, 1.0, rel_tol=1e-12)
 
 
-def test_a_results_directory_reruns_moved_elsewhere_with_its_motion_file(load_scene, tmp_path):
-    """scene.toml in a results directory names its measured motion beside it
-    (output.write_scene_and_inputs), not where it was: the directory, moved and the
-    original file gone, reruns to the same answer, bit for bit."""
+def test_a_results_directory_reruns_moved_elsewhere_with_its_motion_and_law_files(load_scene,
+                                                                                  tmp_path):
+    """scene.toml in a results directory names its measured motion and its user's law
+    file beside it (output.write_scene_and_inputs), not where they were: the directory,
+    moved and the original files gone, reruns to the same answer, bit for bit, on the
+    same compiled law (the copy's fingerprint is the original's)."""
+    import pathlib
     import shutil
 
     from vibrofric.api import run_analytic
+    from vibrofric.friction_law import load_law
 
-    (tmp_path / "measurements").mkdir()
-    original = _sine_csv(tmp_path / "measurements" / "sine.csv", load_scene("longitudinal"))
-    first = run_analytic(_measured(load_scene, original), out=tmp_path / "results")
+    inputs = tmp_path / "inputs"
+    inputs.mkdir()
+    original = _sine_csv(inputs / "sine.csv", load_scene("longitudinal"))
+    law = inputs / "maxwell_slip.py"
+    shutil.copyfile(pathlib.Path(__file__).parent.parent / "examples" / "laws" / "maxwell_slip.py",
+                    law)
+    first = run_analytic(_measured(load_scene, original, contact__law=str(law)),
+                         out=tmp_path / "results")
     written = scene_module.load(tmp_path / "results" / "scene.toml")
     assert written.vibration.motion == str(tmp_path / "results" / "base_motion.csv")
-    assert 'motion = "base_motion.csv"' in (tmp_path / "results" / "scene.toml").read_text()
+    assert written.contact.law == str(tmp_path / "results" / "maxwell_slip.py")
+    text = (tmp_path / "results" / "scene.toml").read_text()
+    assert 'motion = "base_motion.csv"' in text and 'law = "maxwell_slip.py"' in text
+    fingerprint = load_law(str(law)).fingerprint
 
     moved = tmp_path / "elsewhere" / "results"
     shutil.move(tmp_path / "results", moved)
-    shutil.rmtree(tmp_path / "measurements")
-    again = run_analytic(scene_module.load(moved / "scene.toml"))
+    shutil.rmtree(inputs)
+    rerun = scene_module.load(moved / "scene.toml")
+    assert load_law(rerun.contact.law).fingerprint == fingerprint
+    again = run_analytic(rerun)
     assert again.F_dv_over_F_d0 == first.F_dv_over_F_d0

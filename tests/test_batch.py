@@ -218,6 +218,21 @@ def test_a_killed_sweep_resumes_without_rerunning_finished_points(serial, tmp_pa
     assert not [p for p in (out / "points").iterdir() if p.name.startswith(".")]
 
 
+def test_an_fe_sweep_on_a_measured_motion_reuses_its_finished_points(tmp_path):
+    """An FE point's scene.toml names its files where they are, as every point's: a
+    resumed sweep knows a point by that text (points.read_point). (Written as ``vibrofric
+    run`` writes it, with the motion copied beside it, the text was not the point's
+    scene's, and every resume ran every FE point again.)"""
+    out = tmp_path / "sweep"
+    args = ["sweep", str(ROOT / "examples" / "base_motion" / "measured.toml"), *TINY_FE,
+            "--grid", "contact.mu=0.1,0.12", "--fe", "--out", str(out)]
+    for run in range(2):
+        done = vibrofric(args)
+        assert done.returncode == 0, done.stderr
+    assert "(2 reused)" in done.stderr
+    assert not list((out / "points").glob("*/base_motion.csv"))
+
+
 def processes_running(text) -> list:
     """Process ids whose command line mentions ``text`` (forked workers share their parent's)."""
     pids = []

@@ -74,6 +74,17 @@ def load_block(comm, size, level):
     return adapter.load_body(comm, meshes.block_body(size, level))
 
 
+def block_in_a_cache_of_its_own(tmp_path_factory, level):
+    """load_block for a module's fixture, which the function's cache (_own_mesh_cache)
+    does not reach: the block meshed in a mesh cache of its own."""
+    patch = pytest.MonkeyPatch()
+    patch.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
+    try:
+        return load_block(MPI.COMM_SELF, SIZE, level)
+    finally:
+        patch.undo()
+
+
 def hexahedra(V):
     """The cells of ``V``'s mesh, asserted hexahedra (adapter.cells)."""
     cells, vtk_type = adapter.cells(V)
@@ -83,12 +94,7 @@ def hexahedra(V):
 
 @pytest.fixture(scope="module")
 def one_hexahedron(tmp_path_factory):
-    mp = pytest.MonkeyPatch()
-    mp.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
-    try:
-        mesh, facet_tags = load_block(MPI.COMM_SELF, SIZE, "tiny")
-    finally:
-        mp.undo()
+    mesh, facet_tags = block_in_a_cache_of_its_own(tmp_path_factory, "tiny")
     V = adapter.vector_space(mesh)
     return dict(K=adapter.stiffness(V, E, NU).toarray(), mass=adapter.lumped_mass(V, RHO),
                 X=adapter.node_coordinates(V),
@@ -277,12 +283,7 @@ def test_frames_from_the_arrays_match_dolfinxs_own(tmp_path, monkeypatch):
 @pytest.fixture(scope="module")
 def coarse_stress(tmp_path_factory):
     """The coarse block's node positions, cells (hexahedra) and cell stress operator."""
-    mp = pytest.MonkeyPatch()
-    mp.setenv("VIBROFRIC_CACHE", str(tmp_path_factory.mktemp("cache")))
-    try:
-        mesh, _ = load_block(MPI.COMM_SELF, SIZE, "coarse")
-    finally:
-        mp.undo()
+    mesh, _ = block_in_a_cache_of_its_own(tmp_path_factory, "coarse")
     V = adapter.vector_space(mesh)
     return adapter.node_coordinates(V), hexahedra(V), adapter.cell_stress(V, E, NU)
 

@@ -6,7 +6,6 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from conftest import model_at_rest
 from vibrofric import scene as scenes
 from vibrofric.scene.errors import SceneError
 
@@ -49,11 +48,12 @@ def pulled_top(model, k_t):
 def test_a_held_ball_does_not_turn_under_a_pull_at_its_top(holder):
     pytest.importorskip("dolfinx")
     pytest.importorskip("gmsh")
+    from vibrofric.fem.model import fe_model
     from vibrofric.fem.model import holder as holders
 
     scene = scenes.load(f"{SCENES}/ball.toml").with_values(
         {"drive.attach": "load-group", "drive.holder": holder})
-    model = model_at_rest(scene)
+    model = fe_model.build_model(scene, None)
     tilt, x_top = pulled_top(model, scene.contact.k_t)
     nodes, w = model.attach_nodes, model.attach_weights
     xyz = model.disc.coordinates[nodes]
@@ -70,7 +70,7 @@ def test_a_held_ball_does_not_turn_under_a_pull_at_its_top(holder):
     # elastic compliance between the ties and its contact (measured: 0.97 of the bound,
     # 1e-3 of the unheld ball's tilt)
     unheld = scene.with_values({"drive.holder": "none"})
-    k_hold = holders.hold_stiffness(model_at_rest(unheld).stiffness, nodes)
+    k_hold = holders.hold_stiffness(fe_model.build_model(unheld, None).stiffness, nodes)
     tilting = k_hold * w @ (xyz[:, 0] - w @ xyz[:, 0]) ** 2
     assert 0.0 < tilt <= 1.1 * height / tilting
 
@@ -84,6 +84,7 @@ def test_the_held_bodys_turn_is_no_gauge_of_its_steady_cycle():
     taking it out had run the held pin to a spurious orbit (F_dv/F_d0 0.063 against
     0.777)."""
     from vibrofric.fem.integrators.cycle_map import unrestrained_motions
+    from vibrofric.fem.model import fe_model
 
     scene = scenes.load(f"{SCENES}/ball.toml")
     assert scene.drive.holder == "translating"
@@ -92,7 +93,7 @@ def test_the_held_bodys_turn_is_no_gauge_of_its_steady_cycle():
     assert unrestrained_motions(unheld) == ("y", "turn")
     energies = []
     for s in (scene, unheld):
-        model = model_at_rest(s)
+        model = fe_model.build_model(s, None)
         xyz = model.disc.coordinates
         centre = model.attach_weights @ xyz[model.attach_nodes]
         turn = np.zeros_like(xyz)

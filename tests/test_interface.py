@@ -9,7 +9,6 @@ import tomli_w
 
 pytest.importorskip("dolfinx")
 
-from conftest import model_at_rest  # noqa: E402
 from hemisphere import hemisphere  # noqa: E402
 
 from vibrofric import scene as scenes  # noqa: E402
@@ -55,7 +54,7 @@ def test_the_block_s_reduced_answer_is_the_whole_interface_s_to_the_bit():
 
 @pytest.fixture(scope="module")
 def coarse_ball():
-    return model_at_rest(scenes.load("scenes/ball.toml"))
+    return fe_model.build_model(scenes.load("scenes/ball.toml"), None)
 
 
 def test_the_ball_s_interface_is_its_patch_and_what_the_reach_brings(coarse_ball):

@@ -484,14 +484,17 @@ def test_a_failing_property_is_said_in_one_sentence(tmp_path):
 
 
 def test_the_example_law_runs_through_the_command(tmp_path, capsys):
-    """``vibrofric analytic`` on the example scene: the law file named relative to it."""
+    """``vibrofric analytic`` on the example scene: the law file named relative to it, and
+    copied into the results directory, whose scene.toml names the copy."""
     from vibrofric.cli import main
 
     code = main(["analytic", str(ROOT / "examples" / "laws" / "maxwell_slip.toml"),
                  "--set", "time.T=0.2", "--out", str(tmp_path / "out"), "--json"])
     assert code == 0
     written = scene_module.load(tmp_path / "out" / "scene.toml")
-    assert written.contact.law == str(ROOT / "examples" / "laws" / "maxwell_slip.py")
+    assert written.contact.law == str(tmp_path / "out" / "maxwell_slip.py")
+    assert ((tmp_path / "out" / "maxwell_slip.py").read_bytes()
+            == (ROOT / "examples" / "laws" / "maxwell_slip.py").read_bytes())
     assert '"F_dv_over_F_d0"' in capsys.readouterr().out
 
 

@@ -141,22 +141,18 @@ def test_a_claimed_name_stays_claimed_while_its_results_move_in(tmp_path, monkey
     second = output.datetime.datetime(2026, 1, 1, 12, 0, 0)  # every name taken within one second
     monkeypatch.setattr(output.datetime, "datetime", type("Clock", (), {"now": lambda: second}))
     mine, others = output.default_dir("x"), []
-    rename = Path.rename
 
-    def rename_while_another_run_claims(self, target):
-        if Path(target) == mine:
-            others.append(output.default_dir("x"))
-        return rename(self, target)
+    def while_another_run_claims(move):
+        """``move`` (a rename, or the exchange of two names), with another run asking for
+        a default name as it moves a stage to ``mine``."""
+        def moved(source, target):
+            if Path(target) == mine:
+                others.append(output.default_dir("x"))
+            return move(source, target)
+        return moved
 
-    monkeypatch.setattr(Path, "rename", rename_while_another_run_claims)
-    exchange = output._exchange
-
-    def exchange_while_another_run_claims(stage, target):
-        if Path(target) == mine:
-            others.append(output.default_dir("x"))
-        return exchange(stage, target)
-
-    monkeypatch.setattr(output, "_exchange", exchange_while_another_run_claims)
+    monkeypatch.setattr(Path, "rename", while_another_run_claims(Path.rename))
+    monkeypatch.setattr(output, "_exchange", while_another_run_claims(output._exchange))
     with output.staged(mine, "analytic", claimed=True) as stage:
         (stage / "summary.json").write_text("{}")
     assert others == [mine.with_name(mine.name + "-2")]

@@ -71,16 +71,17 @@ def error_keys(fe, scene) -> dict:
 
 
 def fe_beside_analytic(scene, directory, comm=None, progress=None,
-                       full_series: bool = False, start=None) -> FEBesideAnalytic:
+                       full_series: bool = False, start=None, inputs: bool = True) -> FEBesideAnalytic:
     """Run the scene's FE model and the analytic stepper beside it (run_beside), and
     write their files into ``directory`` (write_beside): scene.toml, timeseries.csv
     (FE), analytic_timeseries.csv and, if fem.output_every > 0, paraview/.
+    ``inputs``: scene.toml with the files it reads copied beside it (write_beside).
 
     Raises SceneError (the model's refusal, naming the key) or NumericalError, leaving whatever it wrote
     by then for the caller's output.staged() to drop.
     """
     done = run_beside(scene, directory, comm, progress, start)
-    write_beside(directory, scene, done, full_series)
+    write_beside(directory, scene, done, full_series, inputs)
     return done
 
 
@@ -148,11 +149,17 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     return FEBesideAnalytic(document, fe_info, fe, analytic_series)
 
 
-def write_beside(directory, scene, done: FEBesideAnalytic, full_series: bool = False) -> None:
-    """Write run_beside's ``done`` into ``directory``: scene.toml (with the files it reads:
-    output.write_scene_and_inputs), timeseries.csv (FE) and analytic_timeseries.csv, with
-    the rows core.series.written() names, or with ``full_series`` every kept row."""
-    output.write_scene_and_inputs(directory, scene)
+def write_beside(directory, scene, done: FEBesideAnalytic, full_series: bool = False,
+                 inputs: bool = True) -> None:
+    """Write run_beside's ``done`` into ``directory``: scene.toml (with ``inputs``, the
+    files it reads copied beside it: output.write_scene_and_inputs; without, named where
+    they are, as a sweep's point names them), timeseries.csv (FE) and
+    analytic_timeseries.csv, with the rows core.series.written() names, or with
+    ``full_series`` every kept row."""
+    if inputs:
+        output.write_scene_and_inputs(directory, scene)
+    else:
+        output.write_scene(directory, scene)
     output.write_timeseries(directory, written(done.fe.series, scene, full_series))
     output.write_timeseries(directory, written(done.analytic_series, scene, full_series),
                             "analytic_timeseries.csv")

@@ -363,53 +363,67 @@ def staged_file(target: Path):
         raise
 
 
-def write_scene(directory: Path, scene) -> None:
-    """``scene.toml``: the scene as run, every key; replaced whole if already there."""
+def write_scene(directory: Path, scene, files: dict | None = None) -> None:
+    """``scene.toml``: the scene as run, every key; replaced whole if already there.
+    ``files``: keys naming files, written as other names (scene.to_toml)."""
     from . import scene as scene_module  # here: importing the scene module imports numba,
                                          # which the command's first moments do without (cli)
 
-    with staged_file(directory / "scene.toml") as partial:
-        partial.write_text(scene_module.to_toml(scene))
+    with staged_file(Path(directory) / "scene.toml") as partial:
+        partial.write_text(scene_module.to_toml(scene, files))
 
 
 def write_scene_and_inputs(directory: Path, scene) -> None:
     """``scene.toml`` as write_scene writes it, with the files the scene reads copied
-    beside it and named there relatively (scene.load reads a file named relative to its
-    scene file): the directory reruns on another machine. The files:
+    beside it and named there relatively (copy_inputs; scene.load reads a file named
+    relative to its scene file): the directory reruns on another machine.
+    (A sweep's scene.toml keeps absolute names: a sweep resumes by comparing its
+    scene, and a point by its scene.toml's text, batch/points.py read_point.)
+    """
+    write_scene(directory, scene, copy_inputs(directory, scene))
+
+
+def copy_inputs(directory: Path, scene) -> dict:
+    """Copy the files ``scene`` reads into ``directory``; return the keys that name them
+    with the copies' names, relative to ``directory``. The files:
 
         vibration.motion   the measured base motion, as base_motion<suffix>
         body.mesh          the body's mesh or geometry file under its own name, and the
                            files a .geo names beside it (meshes/user_mesh.py named_files)
                            under theirs; one named by an absolute path or out of its
                            folder (..) stays where it is, named as the .geo names it
+        contact.law        a law file, under its own name (its stem names its table
+                           [contact.<stem>]); only the file: a law file is one module
+                           (friction_law/contract.py). A built-in law or an importable
+                           module is named, not copied.
 
-    Copied byte for byte: the rerun's mesh cache key and base motion are the run's.
-    (A sweep's scene.toml keeps absolute names: a sweep resumes by comparing its scene.)
+    Copied byte for byte: the rerun's mesh cache key, base motion and law fingerprint
+    (its compiled loops) are the run's.
     """
-    import tomli_w
+    from .friction_law.contract import is_law_file
 
-    from . import scene as scene_module   # (see write_scene)
-
-    raw = scene_module.to_dict(scene)
-    motion = raw["vibration"].get("motion")
-    if motion is not None:
-        name = "base_motion" + Path(motion).suffix
-        shutil.copyfile(motion, Path(directory) / name)
-        raw["vibration"]["motion"] = name
-    mesh = raw["body"].get("mesh")
-    if mesh is not None:
+    directory = Path(directory)
+    files = {}
+    if scene.vibration.motion is not None:
+        name = "base_motion" + Path(scene.vibration.motion).suffix
+        shutil.copyfile(scene.vibration.motion, directory / name)
+        files["vibration.motion"] = name
+    if scene.body.mesh is not None:
         from .meshes.user_mesh import named_files
 
-        source = Path(mesh)
+        source = Path(scene.body.mesh)
         for name, other in named_files(source):
             if Path(name).is_absolute() or ".." in Path(name).parts:
                 continue
-            (Path(directory) / name).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copyfile(other, Path(directory) / name)
-        shutil.copyfile(source, Path(directory) / source.name)
-        raw["body"]["mesh"] = source.name
-    with staged_file(Path(directory) / "scene.toml") as partial:
-        partial.write_text(tomli_w.dumps(raw))
+            (directory / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(other, directory / name)
+        shutil.copyfile(source, directory / source.name)
+        files["body.mesh"] = source.name
+    if is_law_file(scene.contact.law):
+        source = Path(scene.contact.law)
+        shutil.copyfile(source, directory / source.name)
+        files["contact.law"] = source.name
+    return files
 
 
 CHECKS = "checks.json"  # in a sweep's point: {file: {"bytes": n, "sha256": hex}} of the others

@@ -112,7 +112,9 @@ def _run_fe(scene, directory: Path, start=None) -> tuple:
     from ..fe_beside_analytic import fe_beside_analytic
 
     with one_blas_thread():
-        done = fe_beside_analytic(scene, directory, start=start)
+        # scene.toml naming its files where they are, as every point's: a resumed sweep
+        # knows the point by that text (read_point, Point.scene_toml)
+        done = fe_beside_analytic(scene, directory, start=start, inputs=False)
     periodic = done.document["fe"].get("periodic") or {}
     orbit = done.fe.orbit.z if periodic.get("method") == "periodic" else None
     return {"result": done.document, "fe_info": done.fe_info}, orbit

@@ -328,7 +328,12 @@ def _load_module(name: str):
         path = Path(name)
         if not path.is_file():
             raise LawError(f"no friction law file {path}")
-        digest = hashlib.sha256(path.read_bytes()).hexdigest()[:12]
+        # A module of its own for each content (an edited file is loaded anew) and each
+        # place: numba finds a compiled function by its module's file, so a copy served
+        # by the module of the original (a results directory's law file) failed to
+        # compile once the original was gone ("no locator available for file").
+        digest = hashlib.sha256(str(path.resolve()).encode() + b"\0"
+                                + path.read_bytes()).hexdigest()[:12]
         module_name = f"vibrofric_law_{path.stem}_{digest}"
         if module_name in sys.modules:
             return sys.modules[module_name], path

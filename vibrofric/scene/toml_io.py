@@ -75,5 +75,13 @@ def load(path, overrides=()) -> Scene:
     return from_dict(raw, path.stem)
 
 
-def to_toml(scene: Scene) -> str:
-    return tomli_w.dumps(to_dict(scene))
+def to_toml(scene: Scene, files: dict | None = None) -> str:
+    """The scene as TOML, every key (to_dict). ``files`` ({"section.key": name}) writes
+    those keys, which name files the scene reads, as ``name`` instead: the copies a
+    results directory holds beside its scene.toml (output.write_scene_and_inputs), named
+    relative to it, as load() reads them."""
+    raw = to_dict(scene)
+    for key, name in (files or {}).items():
+        section, _, field = key.partition(".")
+        raw[section][field] = name
+    return tomli_w.dumps(raw)

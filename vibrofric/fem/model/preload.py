@@ -22,9 +22,21 @@ the weak springs below against the body's rocking (a rotation of radians from th
 mesh's asymmetry), and the patches that follow swing from side to side.
 A patch of one or a few nodes, where the mesh is coarse against the contact's true
 size (a ball's Hertz radius), holds the body's rocking about it only by the weak
-springs below: the body rocks from one side of it to the other and the set cycles;
-the preload then stops at the first patch that comes back (PatchUnresolved: refine
-the mesh there).
+springs below: a full step from it rocks the body from one side to the other and
+the sets can cycle (gmsh 4.15's coarse ball unheld: 55 candidates, down to 2 nodes,
+then 26, ... back to a patch of 26). The equilibrium is there all the same: it is
+the minimum of the energy
+
+    E(u) = 1/2 u^T K' u - f^T u + sum_i 1/2 k_pen,i min(g_i, 0)^2
+
+(K' the stiffness with the in-plane springs below), convex and, held in Z by the
+contact, with one minimum; each full step above is a Newton step on it (exact on
+the patch's quadratic piece). Where the sets come back, the preload goes on from
+there by the same steps shortened by an exact line search on E (damped_patch: the
+damped Newton method for a convex piecewise quadratic, J. Sun, Math. Program. 76
+(1997) 451), which lowers E every step and ends on the patch of the minimum.
+Only if that does not settle within DAMPED_STEPS is the preload refused
+(PatchUnresolved: refine the mesh there).
 
 The contact is frictionless during the preload (the asperities start undeformed,
 as the lumped model's), so the only loads are in Z. The in-plane rigid motions
@@ -64,9 +76,11 @@ def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, 
     leave that solve a node to move, the whole-system iteration goes on from there.
     On the block's face no node pulls: one solve, as it always was.
 
-    Raises NormalLoadTooSmall if no node stays in contact, PatchUnresolved if the patch
-    comes back to an earlier one (the iteration would cycle), RuntimeError if the
-    reaction does not balance F_N.
+    Where a patch comes back to an earlier one (the full steps would cycle), the steps
+    go on shortened (damped_patch).
+
+    Raises NormalLoadTooSmall if no node stays in contact, PatchUnresolved if the
+    damped steps do not settle either, RuntimeError if the reaction does not balance F_N.
     """
     gap0 = np.zeros(nodes.size) if initial_gap is None else np.asarray(initial_gap, dtype=float)
     z = 3 * nodes + 2
@@ -84,10 +98,14 @@ def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, 
             active = patch_iteration(lu, z, stiffness.shape[0], penalty_share, gap0, u0[z])
         else:
             active = (active & ~lifted) | touching
+        if active is None or active.tobytes() in seen:
+            # full steps that come back: shortened from here until they settle
+            u0, active = damped_patch(stiffness, load, nodes, penalty_share, area_share,
+                                      k_t, order, gap0, u0)
+            gap = gap0 + u0[z]
+            break
         if not active.any():
             raise NormalLoadTooSmall("no contact node stays on the base under the preload")
-        if active.tobytes() in seen:
-            raise _unresolved(len(seen), active)
     normal = np.where(active, penalty_share * np.maximum(-gap, 0.0), 0.0)
     if not np.isclose(normal.sum(), F_N, rtol=RELATIVE_TOLERANCE, atol=0.0):
         raise RuntimeError(f"the static normal reaction {normal.sum():.12g} N does not balance "
@@ -95,24 +113,82 @@ def static_preload(stiffness, load, nodes, penalty_share, area_share, k_t, F_N, 
     return u0, normal, active
 
 
+def _in_plane_springs(stiffness, nodes, area_share, k_t) -> np.ndarray:
+    """(dofs,) the springs on the candidates' X and Y dofs (the module docstring)."""
+    springs = np.zeros(stiffness.shape[0])
+    springs[3 * nodes] = springs[3 * nodes + 1] = REGULARIZATION * k_t * area_share
+    return springs
+
+
 def _solve(stiffness, load, nodes, penalty_share, area_share, k_t, order, gap0, active):
     """(the factorization, u): (K + K_pen(S) + the in-plane springs) u = f - K_pen(S) g0
     for the patch ``active``."""
-    springs = np.zeros(stiffness.shape[0])
+    springs = _in_plane_springs(stiffness, nodes, area_share, k_t)
     z = 3 * nodes + 2
     springs[z[active]] = penalty_share[active]
-    springs[3 * nodes] = springs[3 * nodes + 1] = REGULARIZATION * k_t * area_share
     force = load.copy()
     force[z[active]] -= penalty_share[active] * gap0[active]  # 0 on a flat face: f itself
     lu = spd_factor(stiffness + sp.diags(springs), order)
     return lu, lu.solve(force)
 
 
-def _unresolved(patches: int, active) -> PatchUnresolved:
+DAMPED_STEPS = 100  # damped_patch's Newton steps at most
+LINE_SEARCH_HALVINGS = 60  # bisections of the step length: 2^-60, below rounding
+
+
+def damped_patch(stiffness, load, nodes, penalty_share, area_share, k_t, order, gap0, u):
+    """(u0, patch): the preload's equilibrium, the minimum of E (module docstring), by
+    Newton steps from ``u`` shortened by an exact line search.
+
+    From u, the patch S = {g_i < 0}; the full step goes to u_S, the solve for that
+    patch (_solve: the minimum of E's quadratic piece on S), d = u_S - u. Along d,
+    E's slope
+
+        phi'(t) = d^T (K' u - f) + t d^T K' d + sum_i k_pen,i d_z,i min(g_i + t d_z,i, 0)
+
+    is continuous and rises with t (E is convex): the step length t is its zero in
+    (0, 1], or 1 where phi'(1) <= 0, found by bisection. Settled once a full step
+    leaves no node of S pulling and none off it penetrating (static_preload's test).
+    Raises PatchUnresolved after DAMPED_STEPS steps, NormalLoadTooSmall if no node
+    stays in contact.
+    """
+    z = 3 * nodes + 2
+    free = stiffness + sp.diags(_in_plane_springs(stiffness, nodes, area_share, k_t))
+    for _ in range(DAMPED_STEPS):
+        gap = gap0 + u[z]
+        active = gap < 0.0
+        if not active.any():
+            raise NormalLoadTooSmall("no contact node stays on the base under the preload")
+        _, full = _solve(stiffness, load, nodes, penalty_share, area_share, k_t, order,
+                         gap0, active)
+        new_gap = gap0 + full[z]
+        if not ((active & (new_gap > 0.0)).any() or (~active & (new_gap < 0.0)).any()):
+            return full, active
+        d = full - u
+        slope_at_0 = d @ (free @ u - load)
+        curvature = d @ (free @ d)
+        dz = d[z]
+
+        def slope(t):
+            return (slope_at_0 + t * curvature
+                    + penalty_share @ (dz * np.minimum(gap + t * dz, 0.0)))
+
+        if slope(1.0) <= 0.0:
+            u = full
+            continue
+        low, high = 0.0, 1.0
+        for _ in range(LINE_SEARCH_HALVINGS):
+            middle = 0.5 * (low + high)
+            low, high = (middle, high) if slope(middle) < 0.0 else (low, middle)
+        u = u + high * d
+    raise _unresolved(DAMPED_STEPS, gap0 + u[z] < 0.0)
+
+
+def _unresolved(steps: int, active) -> PatchUnresolved:
     return PatchUnresolved(
-        f"the preload's contact patch does not settle (it came back to one of {patches} "
-        f"earlier patches, of {int(active.sum())} nodes): a patch of a few nodes does not "
-        "hold the body's rocking; refine the mesh where it touches the base")
+        f"the preload's contact patch does not settle (after {steps} damped steps, at a "
+        f"patch of {int(active.sum())} nodes): a patch of a few nodes does not hold the "
+        "body's rocking; refine the mesh where it touches the base")
 
 
 # Right-hand sides solved at once while the candidates' compliance is gathered
@@ -150,7 +226,8 @@ def patch_iteration(lu, z, dofs, penalty_share, gap0, y0) -> np.ndarray:
     a dense system of the nodes off the patch. The patch then changes as the
     primal-dual active set method (module docstring) says, until it settles: what
     solving the whole system for each patch gives, to rounding, at the cost of n solves
-    and small dense ones instead of a factorization a patch.
+    and small dense ones instead of a factorization a patch. None where a patch comes
+    back (the full steps cycle: static_preload goes on with damped_patch).
     """
     compliance = candidate_compliance(lu, z, dofs)
     active = np.ones(z.size, dtype=bool)
@@ -165,7 +242,7 @@ def patch_iteration(lu, z, dofs, penalty_share, gap0, y0) -> np.ndarray:
         if not active.any():
             raise NormalLoadTooSmall("no contact node stays on the base under the preload")
         if active.tobytes() in seen:
-            raise _unresolved(len(seen), active)
+            return None     # it comes back: the whole system's damped steps take over
         seen.add(active.tobytes())
         off = ~active
         system = np.diag(1.0 / penalty_share[off]) - compliance[np.ix_(off, off)]
