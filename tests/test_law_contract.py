@@ -532,6 +532,23 @@ def test_a_law_that_breaks_the_contract_is_refused_before_any_work(tmp_path, cap
     assert not (tmp_path / "out").exists()
 
 
+def test_a_law_file_without_the_py_suffix_is_refused_in_one_line(tmp_path, capsys):
+    """A law named by a path to a file Python cannot import (no .py): one line naming
+    the file, exit 2, nothing written (Python's loader returns no spec for it)."""
+    from vibrofric.cli import main
+
+    (tmp_path / "laws").mkdir()
+    (tmp_path / "laws" / "jenkins").write_text((ROOT / "examples" / "laws" / "jenkins.py")
+                                               .read_text())
+    scene = tmp_path / "scene.toml"
+    scene.write_text('[contact]\nlaw = "laws/jenkins"\n')
+    code = main(["analytic", str(scene), "--out", str(tmp_path / "out")])
+    error = capsys.readouterr().err
+    assert code == 2 and error.count("\n") == 1, error
+    assert "jenkins: not a Python file (name it .py)" in error
+    assert not (tmp_path / "out").exists()
+
+
 # The lumped model's rigid body on one contact patch: a block 100 times stiffer than
 # steel and 5 mm tall (the same mass), so that it neither deforms nor pitches much
 # (the pitching of the tall block moves the contact pressure between its front and

@@ -338,6 +338,8 @@ def _load_module(name: str):
         if module_name in sys.modules:
             return sys.modules[module_name], path
         spec = importlib.util.spec_from_file_location(module_name, path)
+        if spec is None:   # Python loads only a source file it recognizes by its suffix
+            raise LawError(f"friction law file {path}: not a Python file (name it .py)")
         module = importlib.util.module_from_spec(spec)
         sys.modules[module_name] = module
         try:
