@@ -61,7 +61,8 @@ T, both averaging the last 20 cycles. (Stepped for 60 cycles from 5 ms of slidin
         lumped [--zeta-n 0.05], with and without --levels ... --kv 6; its scan of
         the lumped orbits: --levels 1.0,1.002,...,1.03 --kv 6 --lumped-only; the
         held paper's block: --stiffer 10 --contact-damping modal --zeta-n 0.05
-        --hold, with and without --levels ... --kv 6|0)
+        --hold --steps-per-cycle 400 --lumped-dt 1.25e-7, with and without --levels
+        ... --kv 6|0: each model within 0.3% of its converged answer, --converge below)
     .venv/bin/python benchmarks/fe_normal_vs_lumped.py --stiffer 1 --integrator explicit
         --levels 0.6,0.8,0.95,1.012
         (the normal motion alone, k_v = 0 (``--kv``), at those fractions of A_th; the
