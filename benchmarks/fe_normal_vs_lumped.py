@@ -200,8 +200,13 @@ def shift(args, levels, posed, held, a_th) -> None:
     the lumped level at which the lumped body answers the FE's F_dv/F_d0 (the shift
     along A_n that would make the curves meet)."""
     k_v = args.kv
-    lumped_ratio = lambda level: lumped_answer(args, posed, a_th, level, k_v)  # noqa: E731
-    fe_ratio = lambda level: fe_answer(args, posed, held, a_th, level, k_v)  # noqa: E731
+
+    def lumped_ratio(level):
+        return lumped_answer(args, posed, a_th, level, k_v)
+
+    def fe_ratio(level):
+        return fe_answer(args, posed, held, a_th, level, k_v)
+
     own_lumped = first_level(lambda level: lumped_ratio(level)["normal_force_min"] <= 0.0,
                              0.9, 1.1)
     own_fe = first_level(lambda level: fe_ratio(level)[1]["normal_force_min"] <= 0.0,
