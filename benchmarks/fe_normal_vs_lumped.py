@@ -61,11 +61,24 @@ T, both averaging the last 20 cycles. (Stepped for 60 cycles from 5 ms of slidin
         lumped [--zeta-n 0.05], with and without --levels ... --kv 6; its scan of
         the lumped orbits: --levels 1.0,1.002,...,1.03 --kv 6 --lumped-only; the
         held paper's block: --stiffer 10 --contact-damping modal --zeta-n 0.05
-        --hold, with and without --levels ... --kv 6|0)
+        --hold --steps-per-cycle 400 --lumped-dt 1.25e-7, with and without --levels
+        ... --kv 6|0: each model within 0.3% of its converged answer, --converge below)
     .venv/bin/python benchmarks/fe_normal_vs_lumped.py --stiffer 1 --integrator explicit
         --levels 0.6,0.8,0.95,1.012
         (the normal motion alone, k_v = 0 (``--kv``), at those fractions of A_th; the
         explicit FE run at the lumped time.dt: docs/validation.md's paper's-block table)
+
+    .venv/bin/python benchmarks/fe_normal_vs_lumped.py --stiffer 10 --contact-damping modal
+        --zeta-n 0.05 --hold --levels 1.05 --kv 6|0 --converge 100,200,400,800,1600
+        --lumped-dt 1e-6
+        (the step convergence: each model at each step, the lumped step halved with the
+        FE one, every FE step against every lumped one, each model's Richardson limit)
+    .venv/bin/python benchmarks/fe_normal_vs_lumped.py --stiffer 10 --contact-damping modal
+        --zeta-n 0.05 --hold --shift --levels 1.02,1.035,1.05,1.1 --kv 6|0
+        --steps-per-cycle 400 --lumped-dt 1.25e-7
+        (each model's own contact-loss threshold, found by bisection, and the rows
+        compared at equal A_n over it, at equal contact-loss fraction, and as a shift of
+        the lumped curve along A_n)
 
 prints a markdown table: each model's F_dv/F_d0, their relative difference, each
 one's contact_loss_fraction and summed normal force's range, and the FE judgement.
@@ -137,6 +150,158 @@ def fe_step(args, f: float) -> float:
     return args.lumped_dt if args.integrator == "explicit" else 1.0 / (args.steps_per_cycle * f)
 
 
+def richardson(answers):
+    """The limit of three answers at steps h, h/2, h/4 and the observed order p:
+    p = log2((a1 - a2) / (a2 - a3)), limit a3 + (a3 - a2) / (2^p - 1) (Richardson
+    extrapolation; None where the differences do not shrink monotonically)."""
+    a1, a2, a3 = answers[-3:]
+    if (a1 - a2) * (a2 - a3) <= 0.0 or abs(a2 - a3) >= abs(a1 - a2):
+        return None, None
+    p = math.log2((a1 - a2) / (a2 - a3))
+    return a3 + (a3 - a2) / (2.0 ** p - 1.0), p
+
+
+def lumped_answer(args, posed, a_th, level, k_v, dt=None) -> dict:
+    """The lumped model's summary at ``level`` A_th (phase 0, vibration.k_v ``k_v``),
+    stepped at ``dt`` (--lumped-dt)."""
+    keys = {"vibration.normal_amplitude": level * a_th, "vibration.k_v": k_v,
+            "time.dt": dt or args.lumped_dt, "time.method": "transient"}
+    return solve(stiff_scene(args.mesh, args.cycles, args.stiffer, **posed, **keys))[1]
+
+
+def fe_answer(args, posed, held, a_th, level, k_v, steps=None):
+    """The FE model's F_dv/F_d0 and run info at ``level`` A_th (phase 0, k_v ``k_v``) at
+    ``steps`` a cycle (--steps-per-cycle)."""
+    scene = stiff_scene(args.mesh, args.cycles, args.stiffer, **posed, **held,
+                        **{"vibration.normal_amplitude": level * a_th, "vibration.k_v": k_v,
+                           "fem.integrator": args.integrator})
+    scene = scene.with_values(
+        {"time.dt": 1.0 / ((steps or args.steps_per_cycle) * scene.vibration.f)})
+    result = run_fe(scene)
+    return answer_ratio(result, scene), result.info
+
+
+def first_level(reached, low: float, high: float, tolerance: float = 5e-4) -> float:
+    """The lowest level in [low, high] at which ``reached(level)`` holds (by bisection,
+    to ``tolerance``; ``reached`` false at low and true at high)."""
+    if reached(low) or not reached(high):
+        raise ValueError(f"the level is not bracketed by {low:g} and {high:g}")
+    while high - low > tolerance:
+        middle = 0.5 * (low + high)
+        low, high = (low, middle) if reached(middle) else (middle, high)
+    return 0.5 * (low + high)
+
+
+def shift(args, levels, posed, held, a_th) -> None:
+    """Each model's own contact-loss threshold (the A_n / A_th at which the summed normal
+    force's minimum over the steady cycle first reaches 0; for the FE model also where
+    its first node opens) and, at each of ``levels``, the two models compared at equal
+    A_n, at equal A_n over their own thresholds, at equal contact-loss fraction, and
+    the lumped level at which the lumped body answers the FE's F_dv/F_d0 (the shift
+    along A_n that would make the curves meet)."""
+    k_v = args.kv
+
+    def lumped_ratio(level):
+        return lumped_answer(args, posed, a_th, level, k_v)
+
+    def fe_ratio(level):
+        return fe_answer(args, posed, held, a_th, level, k_v)
+
+    own_lumped = first_level(lambda level: lumped_ratio(level)["normal_force_min"] <= 0.0,
+                             0.9, 1.1)
+    own_fe = first_level(lambda level: fe_ratio(level)[1]["normal_force_min"] <= 0.0,
+                         0.9, 1.1)
+    first_node = first_level(lambda level: fe_ratio(level)[1]["contact_loss_fraction"] > 0.0,
+                             0.5, 1.1)
+    print(f"k_v = {k_v:g}. Own thresholds (A_n / A_th, the summed N's minimum reaching 0): "
+          f"lumped {own_lumped:.4f}, FE {own_fe:.4f} (FE / lumped - 1 = "
+          f"{own_fe / own_lumped - 1.0:+.2%}); the FE's first node opens at {first_node:.4f}")
+    print()
+    print("| A_n / A_th | lumped F_dv/F_d0 (loss) | FE F_dv/F_d0 (loss) | FE - lumped | "
+          "at equal A_n / own threshold: lumped, FE - lumped | at the FE's loss: lumped "
+          "level, FE - lumped | lumped level answering the FE's F_dv/F_d0 (shift) |")
+    print("|---|---|---|---|---|---|---|")
+    for level in levels:
+        lumped = lumped_ratio(level)
+        fe, info = fe_ratio(level)
+        a = lumped["F_dv_over_F_d0"]
+        own = lumped_ratio(level * own_lumped / own_fe)["F_dv_over_F_d0"]
+        fe_loss = info["contact_loss_fraction"]
+        try:
+            at_loss = first_level(
+                lambda x: lumped_ratio(x)["contact_loss_fraction"] >= fe_loss, 0.95, 1.2)
+            equal_loss = lumped_ratio(at_loss)["F_dv_over_F_d0"]
+            loss_text = f"{at_loss:.4f}, {(fe - equal_loss) / abs(equal_loss):+.2%}"
+        except ValueError as trouble:
+            loss_text = str(trouble)
+        try:      # the lumped F_dv/F_d0 falls with A_n above A_th (docs/validation.md)
+            answering = first_level(lambda x: lumped_ratio(x)["F_dv_over_F_d0"] <= fe,
+                                    level - 0.05, level + 0.05)
+            shift_text = f"{answering:.4f} ({answering / level - 1.0:+.2%})"
+        except ValueError as trouble:
+            shift_text = str(trouble)
+        print(f"| {level:g} | {a:.4f} ({lumped['contact_loss_fraction']:.3f}) | {fe:.4f} "
+              f"({fe_loss:.3f}) | {(fe - a) / abs(a):+.2%} | {own:.4f}, "
+              f"{(fe - own) / abs(own):+.2%} | {loss_text} | {shift_text} |", flush=True)
+
+
+def converge(args, cases, posed, a_th, held) -> None:
+    """Each --levels row at the FE steps a cycle of --converge and the lumped steps
+    halved alongside (--lumped-dt at the first): each model run once per step, so that
+    every FE step meets every lumped one (the row's diagonal halves both steps, its
+    columns one model's alone), then each model's Richardson limit."""
+    steps = [int(n) for n in args.converge.split(",")]
+    lumped_dts = [args.lumped_dt * steps[0] / n for n in steps]
+    for name, level, phase, k_v, extra in cases:
+        keys = {"vibration.normal_amplitude": level * a_th, "vibration.k_v": k_v, **extra}
+        if phase is not None:
+            keys["vibration.normal_phase_deg"] = phase
+        lumped, fe = [], []
+        for dt in lumped_dts:
+            scene = stiff_scene(args.mesh, args.cycles, args.stiffer, **posed, **keys,
+                                **{"time.dt": dt, "time.method": "transient"})
+            start = time.perf_counter()
+            _, summary = solve(scene)
+            lumped.append(summary["F_dv_over_F_d0"])
+            print(f"{name}: lumped at {dt:.4g} s: {lumped[-1]!r} (out of contact "
+                  f"{summary['contact_loss_fraction']:.3f}, N {summary['normal_force_min']:.3g}-"
+                  f"{summary['normal_force_max']:.3g}; {time.perf_counter() - start:.0f} s)",
+                  flush=True)
+        for n in steps:
+            scene = stiff_scene(args.mesh, args.cycles, args.stiffer, **posed, **keys,
+                                **held, **{"fem.integrator": args.integrator})
+            scene = scene.with_values({"time.dt": 1.0 / (n * scene.vibration.f)})
+            start = time.perf_counter()
+            result = run_fe(scene)
+            fe.append(answer_ratio(result, scene))
+            info = result.info
+            print(f"{name}: FE at {n} steps a cycle: {fe[-1]!r} (out of contact "
+                  f"{info['contact_loss_fraction']:.3f}, N {info['normal_force_min']:.3g}-"
+                  f"{info['normal_force_max']:.3g}, {info['F_n_kind']}, "
+                  f"{info.get('periodic', {}).get('method', 'stepped')}; "
+                  f"{time.perf_counter() - start:.0f} s)", flush=True)
+        print()
+        print(f"{name}: FE - lumped, relative (rows: FE steps a cycle; columns: lumped step)")
+        print()
+        print("| FE \\ lumped | " + " | ".join(f"{dt:.3g} s: {a:.4f}" for dt, a in
+                                               zip(lumped_dts, lumped)) + " |")
+        print("|---" * (len(steps) + 1) + "|")
+        for n, b in zip(steps, fe):
+            print(f"| {n}: {b:.4f} | " + " | ".join(f"{(b - a) / abs(a):+.2%}" for a in lumped)
+                  + " |")
+        if len(steps) >= 3:
+            limits = [richardson(answers) for answers in (lumped, fe)]
+            for model, answers, (limit, order) in zip(("lumped", "FE"), (lumped, fe), limits):
+                print(f"\n{model}: Richardson limit " + (
+                    f"none (not monotone; the last two steps differ by "
+                    f"{(answers[-1] - answers[-2]) / abs(answers[-2]):+.2%})" if limit is None
+                    else f"{limit:.4f}, observed order {order:.2f}"))
+            if None not in (limits[0][0], limits[1][0]):
+                print(f"\nFE - lumped at the limits: "
+                      f"{(limits[1][0] - limits[0][0]) / abs(limits[0][0]):+.2%}")
+        print(flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mesh", default="coarse")
@@ -156,6 +321,14 @@ def main() -> None:
                         help="FE: drive.attach = load-group, drive.holder = translating")
     parser.add_argument("--lumped-only", action="store_true",
                         help="the lumped model's columns alone (a fine scan of --levels)")
+    parser.add_argument("--converge", default=None, metavar="N1,N2,N3",
+                        help="the --levels rows at each FE --steps-per-cycle N_i, the lumped "
+                             "model at --lumped-dt x N1 / N_i alongside: each model's answer "
+                             "against its own step, every pairing, and Richardson's limit")
+    parser.add_argument("--shift", action="store_true",
+                        help="each model's own contact-loss threshold, and the --levels rows "
+                             "(at --kv) compared at equal A_n over it, at equal contact-loss "
+                             "fraction, and as a shift along A_n")
     args = parser.parse_args()
     label = "normal only" if args.kv == 0.0 else f"k_v = {args.kv:g}"
     cases = CASES if args.levels is None else tuple(
@@ -176,6 +349,12 @@ def main() -> None:
           f"{args.lumped_dt:g} s; "
           f"T = t_on + {args.cycles} cycles, the last {AVERAGED} averaged; {platform.node()}")
     print()
+    if args.converge is not None:
+        converge(args, cases, posed, a_th, held)
+        return
+    if args.shift:
+        shift(args, [level for _, level, *_ in cases], posed, held, a_th)
+        return
     print("| case | A_n (m) | phase | k_v | lumped F_dv/F_d0 | FE F_dv/F_d0 | FE - lumped | "
           "loss lumped | loss FE | N lumped (N) | N FE (N) | FE judged | FE answered by | "
           "FE wall (s) |")

@@ -13,6 +13,7 @@ from vibrofric.fem import run_fe
 from vibrofric.fem.integrators.normal_start import bounce_frequency
 from vibrofric.fem.model.contact import contact_forces
 from vibrofric.fem.model.fe_model import build_model
+from vibrofric.fem.outputs.normal_swing import judge, settled
 from vibrofric.fem.simulate import answer_ratio
 from vibrofric.meshes import DEFAULT_SIZE
 
@@ -190,6 +191,28 @@ def test_the_command_line_reports_the_fe_normal_keys_and_columns(tmp_path, capsy
         "energy_closure"]
 
 
+def test_a_body_leaving_the_base_each_cycle_is_judged_bouncing_not_forced():
+    """normal_swing.judge with the base moving along Z, 40 cycles of f = 4 kHz at dt =
+    1e-6 s around F_N = 55 N: a swing at the harmonics of f that stays above 0 is the
+    body's forced response in contact; the same swing cut off at 0 (the body out of
+    contact for part of each cycle and landing, as a steady cycle found by the shooting
+    is) is bouncing and settled; reaching 0 with a free 10.7 kHz line on top (no cycle)
+    it is bouncing and unsettled."""
+    F_N, dt, f = 55.0, 1e-6, 4000.0
+    t = np.arange(10000) * dt
+    forced = np.sin(2 * np.pi * f * t) + 0.3 * np.cos(2 * np.pi * 3 * f * t)
+    in_contact = judge(F_N * (1 + 0.7 * forced / 1.3), dt, f, F_N, 1e-8, moving_base=True)
+    assert in_contact.kind == "forced" and in_contact.low > 0.0
+    cycle = judge(np.maximum(F_N * (1 + 1.2 * forced / 1.3), 0.0), dt, f, F_N, 1e-8,
+                  moving_base=True)
+    assert cycle.kind == "bouncing" and cycle.low == 0.0
+    assert settled(cycle.kind, cycle.forced)
+    free = np.sin(2 * np.pi * 10700 * t)
+    irregular = judge(np.maximum(F_N * (1 + 0.2 * forced + 1.2 * free), 0.0), dt, f, F_N,
+                      1e-8, moving_base=True)
+    assert irregular.kind == "bouncing" and not settled(irregular.kind, irregular.forced)
+
+
 def follows_the_lumped_body_losing_contact(scene, fe_values=()):
     """Check ``scene`` (a stiff block 2% above A_th) against the lumped body, as
     docs/validation.md "A base moving along Z" poses it: the lumped body stepped, the
@@ -204,6 +227,8 @@ def follows_the_lumped_body_losing_contact(scene, fe_values=()):
     assert result.info["normal_force_min"] == pytest.approx(0.0, abs=1e-6)
     assert result.info["contact_loss_fraction"] == pytest.approx(loss, abs=0.05)
     assert answer_ratio(result, fe_scene) == pytest.approx(lumped["F_dv_over_F_d0"], rel=0.05)
+    # its steady cycle (or a stepped run settled on it) named as the orbit it is
+    assert result.info["F_n_kind"] == "bouncing"
 
 
 def test_the_low_stiff_block_posed_alike_follows_the_lumped_body_losing_contact():

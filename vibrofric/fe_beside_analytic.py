@@ -107,7 +107,7 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
     from .analytic.solve import solve
     from .analytic.summary import summarize, summarize_orbit
     from .fem import run_fe
-    from .fem.outputs.normal_swing import rule_note
+    from .fem.outputs.normal_swing import rule_note, settled
 
     check_fe_scene(scene)
     analytic_series, analytic = solve(scene)
@@ -139,9 +139,8 @@ def run_beside(scene, directory, comm=None, progress=None, start=None) -> FEBesi
                   "normal_force_rule_note": rule_note(info["F_n_node_swing"],
                                                       info["normal_force_rule"]),
                   **{key: info[key] for key in FE_NORMAL_KEYS + FE_ENERGY_KEYS if key in info}}
-    if info["F_n_kind"] in ("transient", "bouncing") and not answered:
+    if not answered and not settled(info["F_n_kind"], info["F_n_forced_fraction"]):
         # its average holds part of a transient, or of an irregular bouncing
-        # (fem/outputs/normal_swing.py)
         fe_summary["settled"] = False
     document = {"fe": fe_summary, "analytic": analytic,
                 "rel_error": relative_error(fe_summary["F_dv_over_F_d0"], analytic["F_dv_over_F_d0"])}

@@ -447,8 +447,9 @@ def normal_force_info(scene, model, stats: dict, swing) -> dict:
     """The summed normal force: F_n_static (N, the preload's reaction), F_n_min /
     F_n_max (every step), F_n_min_after_t_on / F_n_max_after_t_on (every step from
     vibration.t_on; None without vibration), and the averaging window's as
-    normal_swing.judge found it: F_n_kind ("steady", "rocking", "forced" or "transient"; a
-    ringing run raises), F_n_min_window / F_n_max_window, F_n_forced_fraction (the
+    normal_swing.judge found it: F_n_kind ("steady", "rocking", "transient", and with the
+    base moving along Z "forced", "bouncing" or "subharmonic"; a ringing run raises),
+    F_n_min_window / F_n_max_window, F_n_forced_fraction (the
     share of the window's swing at harmonics of f), F_n_min_window_end /
     F_n_max_window_end / F_n_forced_fraction_end (the window's end),
     F_n_free_frequency_hz (the largest line of the window's swing off the harmonics

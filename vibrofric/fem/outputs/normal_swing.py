@@ -13,6 +13,14 @@ only through the block's vertical inertia. A sound run shows one of:
   A contact stiffer than the block's own shear stiffness rocks it: on the
   Fig 7 scene at k_t x 100 the sum swings 53.8-56.1 N, 99.8% at harmonics, the
   same at dt = 1e-6 and 5e-7 s.
+- with the base moving along Z (vibration.normal_amplitude > 0), a swing at
+  the harmonics of f is its forced response: "forced" while the sum stays above
+  0 (the body in contact throughout), "bouncing" where it reaches 0 (the body
+  leaves the base and lands on it each cycle, as the lumped body does out of
+  contact, its contact_loss_fraction > 0). The periodic solver's steady cycle
+  and a stepped run settled on the same orbit are judged alike. A sum at the
+  harmonics of f / k (SUBHARMONIC_PERIODS) is "subharmonic"; one reaching 0
+  off any such cycle is "bouncing" too, and unsettled (settled).
 - transient: the window's end (END_FRACTION of its whole cycles, at least
   END_CYCLES) is steady or rocking and its beginning is not: the block's free
   vibration on its contact, set going when the base starts (its velocity jumps
@@ -93,12 +101,13 @@ def free_frequency(values, dt: float, f: float) -> float:
 @dataclass
 class NormalSwing:
     """The window's summed normal force as judged above (kind: "steady", "rocking",
-    "forced" (a base moving along Z), "subharmonic" (its bouncing cycle spanning
-    SUBHARMONIC_PERIODS cycles of f; forced then at f / k), "bouncing" (leaving the
-    base and landing off any such cycle) or "transient"); low/high over the whole
-    window, forced the window's forced
-    fraction, end_low/end_high and end_forced over its end, free_frequency_hz the
-    largest free line over the window (None where steady)."""
+    "forced" (a base moving along Z, the body in contact throughout: the sum stays
+    above 0), "bouncing" (the base moving along Z, the sum reaching 0: the body leaves
+    the base and lands on it, either each cycle of f, forced at its harmonics, or off
+    any cycle), "subharmonic" (its bouncing cycle spanning SUBHARMONIC_PERIODS cycles
+    of f; forced then at f / k) or "transient"); low/high over the whole window,
+    forced the window's forced fraction, end_low/end_high and end_forced over its end,
+    free_frequency_hz the largest free line over the window (None where steady)."""
 
     kind: str
     low: float
@@ -108,6 +117,12 @@ class NormalSwing:
     end_high: float
     end_forced: float
     free_frequency_hz: float | None
+
+
+def settled(kind: str, forced: float) -> bool:
+    """Whether a stepped window judged ``kind`` with its ``forced`` fraction (judge) is
+    a steady cycle's: not a transient, nor a body bouncing off the harmonics of f."""
+    return kind != "transient" and not (kind == "bouncing" and forced < FORCED_FRACTION)
 
 
 def node_swing(samples) -> float:
@@ -165,13 +180,20 @@ def judge(window, dt: float, f: float, F_N: float, damping: float,
                 swing.free_frequency_hz = None
                 return swing
     if forced >= FORCED_FRACTION:
-        swing.kind = "forced" if moving_base else "rocking"
+        # at the harmonics of f: the block's forced response. With the base moving along
+        # Z it is "bouncing" where the summed force reaches 0 (the body leaves the base
+        # and lands on it each cycle: the lumped body out of contact, analytic/normal.py),
+        # whether a steady cycle (integrators/periodic.py) or a stepped run settled on it
+        if not moving_base:
+            swing.kind = "rocking"
+        else:
+            swing.kind = "bouncing" if swing.low <= 0.0 else "forced"
     elif not _swings(end, F_N) or end_forced >= FORCED_FRACTION:
         swing.kind = "transient"
     elif moving_base and swing.end_low <= 0.0:
         # the body leaves the base and lands again off its cycle: a bouncing body, not
         # numerical trouble (the lumped body does the same from just above its contact-
-        # loss threshold, analytic/normal.py); kept, and reported unsettled
+        # loss threshold, analytic/normal.py); kept, and reported unsettled (settled)
         swing.kind = "bouncing"
     else:
         raise NumericalError(
