@@ -788,3 +788,34 @@ def test_the_example_law_runs_in_the_fe_model_through_the_command(tmp_path, caps
     document = json.loads(capsys.readouterr().out)
     fe, analytic = document["fe"]["F_dv_over_F_d0"], document["analytic"]["F_dv_over_F_d0"]
     assert abs(fe - analytic) < 0.05 * analytic
+
+
+def test_a_law_compiled_under_another_module_name_is_compiled_anew(tmp_path):
+    """numba's cache beside a law file holds the module name the law was loaded under;
+    loaded later under another (the name is the file's place and content, and was once
+    its content alone), the cached entry cannot be loaded ("No module named ..."): the
+    law is compiled anew instead of refused."""
+    import importlib.util
+    import sys
+
+    from vibrofric.friction_law.law_check import compile_law
+
+    law = tmp_path / "jenkins.py"
+    law.write_text((ROOT / "examples" / "laws" / "jenkins.py").read_text())
+
+    def loaded_as(name):
+        spec = importlib.util.spec_from_file_location(name, law)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+        return module
+
+    compile_law(loaded_as("vibrofric_law_jenkins_earlier"), "jenkins.py")
+    del sys.modules["vibrofric_law_jenkins_earlier"]
+    try:
+        update = compile_law(loaded_as("vibrofric_law_jenkins_now"), "jenkins.py")
+    finally:
+        del sys.modules["vibrofric_law_jenkins_now"]
+    # a slip of 1 um on k_t = 80e6 N/m is far past the slip circle: the force is mu N
+    F_x, F_y = update(1e-6, 0.0, 0.0, 0.0, 10.0, 1.0, np.zeros(2), np.array([80e6, 0.1]), 1e-6)
+    assert (F_x, F_y) == (pytest.approx(1.0, rel=1e-12), 0.0)

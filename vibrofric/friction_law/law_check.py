@@ -77,8 +77,7 @@ def compile_law(module, where: str) -> object:
         function = getattr(module, name)
         function = getattr(function, "py_func", function)
         try:
-            compiled[name] = njit(signature, error_model="numpy", fastmath=FASTMATH,
-                                  boundscheck=True, cache=True)(function)
+            compiled[name] = _compiled(function, signature)
         except Exception as err:  # numba's TypingError, LoweringError, UnsupportedError...
             raise LawError(f"{where}: numba cannot compile {name}: {_reason(str(err))}",
                            detail=_plain(str(err))) from None
@@ -87,6 +86,25 @@ def compile_law(module, where: str) -> object:
             and all(isinstance(t, (types.Float, types.Integer)) for t in returned)):
         raise LawError(f"{where}: update must return two numbers (F_x, F_y), it returns {returned}")
     return compiled["update"]
+
+
+def _compiled(function, signature):
+    """``function`` compiled by numba for ``signature`` with bounds checks, cached beside
+    the law's file. A law file's module is named by the file's place and content
+    (contract._load_module); an entry numba cached there under another module name (an
+    earlier naming) cannot be loaded ("No module named 'vibrofric_law_..."), so the
+    function's cache index is emptied and the function compiled anew."""
+    dispatcher = njit(error_model="numpy", fastmath=FASTMATH, boundscheck=True,
+                      cache=True)(function)
+    try:
+        dispatcher.compile(signature)
+    except ModuleNotFoundError as err:
+        if not (err.name or "").startswith("vibrofric_law_"):
+            raise
+        dispatcher._cache.flush()       # numba's FunctionCache: an empty index
+        dispatcher.compile(signature)
+    dispatcher.disable_compile()        # as njit(signature) leaves it
+    return dispatcher
 
 
 def probe_history(scale: float):
