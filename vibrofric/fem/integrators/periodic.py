@@ -86,7 +86,7 @@ def find_orbit(phi: FECycleMap, start: np.ndarray | None = None,
         # Set back by the lumped model's F_dv, the start is nearer most orbits (Fig 7:
         # 70 cycles against 90 from F_d0), not every law's for certain:
         # examples/laws/maxwell_slip.py on Fig 7 (reduced) once did not converge in
-        # MIN_CYCLES from there and did from steady sliding under F_d0 (docs/periodic.md).
+        # 400 cycles from there and did from steady sliding under F_d0 (docs/periodic.md).
         # So a second try starts there.
         shot = _shoot(phi, _sliding_start(phi, None))
     multipliers = np.empty(0)
@@ -140,15 +140,16 @@ def _sliding_start(phi: FECycleMap, drive_force: float | None) -> np.ndarray:
 def shooting_cycles(scene) -> int:
     """The cycles the shooting may take before the run is stepped through time.T instead:
     STEPPED_SHARE of the cycles that stepped run integrates with the base on, and at least
-    MIN_CYCLES. A shooting that fails so adds at most that share to the stepped run.
+    MIN_CYCLES. A shooting that fails so adds at most that share to the stepped run (twice
+    it where find_orbit tries a second start).
 
     Newton acts on the drive mode only (cycle_map.slow_directions); the other modes
-    converge at the rate their multipliers allow, and on a body with a lightly damped
-    mode that can take more than MIN_CYCLES: the coarse ball (reduced, reach 3) at
-    1e-6 s, its rocking on the pole at 29 kHz decaying by 0.967 a cycle, had a residual
-    of 4.1e-5 after 400 cycles and converged after 518 (docs/performance.md, "the balls'
-    answers against the step"), where the stepped run takes its 3440 cycles (T = 1 s,
-    t_on = 0.14 s, 4 kHz): 1147 allowed."""
+    converge by plain (Anderson-accelerated) cycles, which can take more than MIN_CYCLES:
+    the coarse ball (reduced, reach 3) at 1e-6 s, where a perturbation of its orbit
+    decays by only 0.967 a cycle, had a residual of 4.1e-5 after 400 cycles and
+    converged after 518 (docs/performance.md, "the balls' answers against the step"),
+    where the stepped run takes 3440 cycles (T = 1 s, t_on = 0.14 s, 4 kHz): 1147
+    allowed."""
     vibrated = max(0.0, scene.time.T - scene.vibration.t_on) * scene.vibration.f
     return max(MIN_CYCLES, math.ceil(STEPPED_SHARE * vibrated))
 
