@@ -223,7 +223,7 @@ def test_the_shooting_may_take_a_third_of_the_stepped_run_s_cycles_and_at_least_
 def test_the_coarse_ball_s_orbit_at_a_short_step_is_found_past_400_cycles():
     """The coarse ball, reduced at reach 3, at 1e-6 s: its rocking on the pole (29 kHz,
     lightly damped at that step) makes Newton-Picard converge slowly; with 400 cycles it
-    stopped at a residual of 4e-5 and the run was stepped through T (~2 min), now it
+    stopped at a residual of 4e-5 and the run was stepped through T; now it
     finds the orbit (518 cycles, measured). Its answer lies within 1e-3 of the explicit
     model's steady cycle, 0.2747 (docs/validation.md, "A ball and a pin against the
     lumped model"): the step's own error at 1e-6 s, where the scheme carries the rocking
