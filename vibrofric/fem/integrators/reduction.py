@@ -429,8 +429,8 @@ def _full_compliances(model, reduction: Reduction, k_t: float, omegas: list) -> 
                      "loss_factor": LOSS_FACTOR, "compliance_loads": COMPLIANCE_LOADS,
                      "solver": f"krylov {KRYLOV_TOLERANCE:g}", "numpy": np.__version__,
                      "scipy": scipy.__version__}
-            _full_compliance[key] = model_cache.cached("compliance", parts,
-                                                       lambda: solved(omega))["c"]
+            _full_compliance[key] = model_cache.cached(
+                "compliance", parts, lambda omega=omega: solved(omega))["c"]
         out[omega] = _full_compliance[key]
     return out
 
@@ -460,9 +460,10 @@ class FullCompliance:
     which is complex symmetric like A(w), so its error is second order in the solution's
     (a variational quantity). The space grows until no compliance at the asked
     frequencies ``omegas`` moves by more than KRYLOV_TOLERANCE of itself over a block,
-    and they are read off it (``at``). Where it has not settled
-    within KRYLOV_BLOCKS blocks (not seen), the complex LU of A(w) answers instead
-    (direct_compliance).
+    or until it is invariant (the projection then exact), and they are read off it
+    (``at``). Where it has not settled within KRYLOV_BLOCKS blocks (not seen: 14 to 18
+    vectors on the blocks and balls, docs/performance.md), the complex LU of A(w)
+    answers instead (direct_compliance).
     """
 
     def __init__(self, model, boundary, k_t: float, omegas):
@@ -475,22 +476,22 @@ class FullCompliance:
         factor = fastest_spd_factor(shifted, model.elimination_order)
         self.loads = _compliance_loads(model, boundary)
         self.settled = False
-        blocks, products, g, H = [], [], np.zeros((0, 3)), np.zeros((0, 0))
+        blocks, products = [], []
+        self.H, self.g = np.zeros((0, 0)), np.zeros((0, 3))
         start = factor.solve(self.loads)
         previous = None
         for _ in range(KRYLOV_BLOCKS):
             block = self._orthonormal(start, blocks, products, shifted)
-            if block.shape[1] == 0:
+            if block.shape[1] == 0:   # the space is invariant: the projection is exact
+                self.settled = bool(blocks)
                 break
             blocks.append(block)
             products.append(shifted @ block)
             weighted = mass[:, None] * block
-            V = np.hstack(blocks)
-            cross = V.T @ weighted                              # H's new columns
-            H = np.block([[H, cross[:-block.shape[1]]], [cross[:-block.shape[1]].T,
-                                                         cross[-block.shape[1]:]]])
-            g = np.vstack([g, block.T @ self.loads])
-            self.H, self.g = 0.5 * (H + H.T), g
+            cross = np.hstack(blocks).T @ weighted              # H's new columns
+            old, new = cross[:-block.shape[1]], cross[-block.shape[1]:]
+            self.H = np.block([[self.H, old], [old.T, 0.5 * (new + new.T)]])
+            self.g = np.vstack([self.g, block.T @ self.loads])
             now = np.array([self._projected(omega) for omega in omegas])
             if previous is not None and np.all(
                     np.abs(now - previous) <= KRYLOV_TOLERANCE * np.abs(now)):
