@@ -366,6 +366,34 @@ def test_the_reduction_estimate_sees_a_stiff_contact_lift_the_rocking_modes(comm
     assert default > scene.fem.accuracy > doubled
 
 
+@pytest.mark.parametrize("body", ["block", "ball"])
+def test_the_full_compliance_from_one_real_factorization_is_the_complex_lu_s(body, comm):
+    """The full model's compliances for the estimate (FullCompliance: one real
+    factorization of K + L + s M and the Krylov space it generates) against the complex
+    LU at each compared harmonic (direct_compliance), on the Fig 7 block and on the coarse
+    ball with every candidate kept (its estimate, 0.41%, against 1.5e-5 on its default
+    interface: the cases of reduction.py's docstring). The space settles each compliance
+    to 1e-10 of itself and the Galerkin error is second order: they agree to 1e-9 of
+    the static compliance c(0) (measured 1e-13 and 5e-13), which moves an estimate of
+    1e-5 of c(0) or more by 1e-4 of itself at most, far inside the 1% decision it serves.
+    The space stays small: 14 and 18 vectors (measured), bound 60."""
+    from conftest import model_at_rest
+    from vibrofric.fem.integrators.reduction import (FullCompliance, compared_harmonics,
+                                                     direct_compliance)
+    scene = load(LONGITUDINAL) if body == "block" else \
+        scenes.load(ROOT / "scenes" / "ball.toml").with_values({"fem.interface_reach": "all"})
+    model = fe_model.build_model(scene, comm) if body == "block" else model_at_rest(scene)
+    reduction = Reduction(model, scene.fem.cutoff * scene.vibration.f)
+    k_t = scene.law_bounds.stiffness
+    omegas = [2 * math.pi * h * scene.vibration.f for h in compared_harmonics(scene)]
+    solver = FullCompliance(model, reduction.boundary, k_t, omegas)
+    assert solver.settled and solver.size <= 60
+    static = np.abs(direct_compliance(model, reduction.boundary, k_t, 0.0))
+    for omega in omegas:
+        exact = direct_compliance(model, reduction.boundary, k_t, omega)
+        assert np.all(np.abs(solver.at(omega) - exact) < 1e-9 * static)
+
+
 # --- energy ----------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("mode", ["spring", "velocity"])

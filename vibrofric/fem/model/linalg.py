@@ -175,6 +175,21 @@ def spd_factor(matrix, order=None):
     return symmetric_lu(matrix, order)
 
 
+def fastest_spd_factor(matrix, order=None):
+    """spd_factor's factorization, but CHOLMOD (dolfinx_adapter.cholesky) on the block's
+    grid too where the stack has it: for solves whose results may differ from the
+    nested-dissection LU's in their last bits (the reduction's error estimate,
+    integrators/reduction.py FullCompliance), not for those the block's answers are
+    computed from (the preload, the reduction), which stay spd_factor's. On the fine
+    block (31k DOFs) CHOLMOD factorized in 4.8 s, the nested-dissection LU in 51 s
+    (docs/performance.md, "2026-11-27: the reduction's error estimate from one real
+    factorization")."""
+    from . import dolfinx_adapter
+
+    factor = dolfinx_adapter.cholesky(matrix)
+    return factor if factor is not None else spd_factor(matrix, order)
+
+
 def dof_points(coordinates) -> np.ndarray:
     """(3 nodes, 3): every DOF at its node's position (node d carries DOFs 3 d + c)."""
     return np.repeat(coordinates, 3, axis=0)

@@ -30,8 +30,9 @@ sweep on one body, would build the same again. This module keeps them in
                           fields): the steps need only the small arrays
     compliance-<key>.npz  the full model's dynamic compliance at one frequency, for the
                           reduction's error estimate (reduction.compliance_error):
-                          keyed by the model's content, k_t, the frequency and the
-                          same versions
+                          keyed by the model's content, k_t, the frequency, what its
+                          loads and springs act on (the preload's patch), its solver's
+                          tolerance and the same versions
 
 A key covers everything the entry is computed from, so an entry is either
 right or never looked up; "the package's version" is its version and the hash
