@@ -74,3 +74,27 @@ def test_the_stress_tensor_is_written_symmetric_from_the_voigt_components():
     assert np.array_equal(fields["stress"].reshape(3, 3),
                           [[1.0, 6.0, 5.0], [6.0, 2.0, 4.0], [5.0, 4.0, 3.0]])
     assert fields["normal_stress"].tolist() == [3.0]
+
+
+def test_arrays_are_read_back_whether_deflated_or_stored(tmp_path):
+    """A frame's arrays as a VTK reader reads them (meshio's, as ParaView): a field of
+    float noise, which hardly deflates, is stored in its zlib stream (level 0: the
+    stream no shorter than the bytes), a field of zeros deflated, and both read back
+    bit for bit, beside the mesh written once for the series."""
+    import meshio
+
+    rng = np.random.default_rng(1)
+    points = rng.random((4000, 3))
+    cells = np.arange(4000, dtype=np.int64).reshape(-1, 4)
+    noise, zeros = rng.standard_normal((4000, 3)), np.zeros(4000)
+    mesh = paraview.vtu_mesh(points, cells, paraview.VTK_TETRAHEDRON)
+    text = paraview.vtu_text(points, cells, {"noise": noise, "zeros": zeros},
+                             cell_type=paraview.VTK_TETRAHEDRON, mesh=mesh)
+    assert len(paraview._compressed(noise.tobytes())) > noise.nbytes       # stored
+    assert len(paraview._compressed(zeros.tobytes())) < zeros.nbytes / 100  # deflated
+    (tmp_path / "frame.vtu").write_text(text)
+    read = meshio.read(tmp_path / "frame.vtu")
+    assert np.array_equal(read.points, points)
+    assert np.array_equal(read.cells_dict["tetra"], cells)
+    assert np.array_equal(read.point_data["noise"], noise)
+    assert np.array_equal(read.point_data["zeros"], zeros)

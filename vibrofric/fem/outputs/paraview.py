@@ -44,7 +44,11 @@ A .vtu is written here directly (vtu_text): VTK's XML format with each array
 inline and zlib-compressed (VTK's vtkZLibDataCompressor: a header of UInt64
 sizes, then the compressed little-endian bytes, each in base64), as meshio
 wrote it before; importing meshio took a run longer than writing all its
-frames (docs/performance.md, "Design choices measured").
+frames (docs/performance.md, "Design choices measured"). An array whose bytes hardly
+deflate (a field's float noise: a stress or a velocity shrinks by a few per cent, at
+tens of MB/s) is put in the zlib stream stored (level 0) rather than deflated
+(_compressed), and a series encodes its mesh (points and cells, the same in every
+frame) once (FrameWriter).
 """
 
 import base64
@@ -124,14 +128,17 @@ class FrameWriter:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.times = []
         self.frames = 0
+        self.mesh = None        # the frames' mesh as vtu_mesh encodes it, made once
 
     def __call__(self, state) -> None:
         disc = self.model.disc
+        if self.mesh is None:
+            self.mesh = vtu_mesh(disc.coordinates, disc.cells, disc.cell_type)
         name = f"{self.path.stem}{self.frames:06d}.vtu"
         (self.path.parent / name).write_text(vtu_text(disc.coordinates, disc.cells,
                                                       node_fields(self.model, state),
                                                       cell_fields(self.model, state),
-                                                      disc.cell_type))
+                                                      disc.cell_type, self.mesh))
         self.times.append((state.t, name))
         self.frames += 1
 
@@ -151,12 +158,26 @@ VTK_HEXAHEDRON = 12  # VTK's cell type of the linear hexahedron (8 corners in VT
 VTK_TETRAHEDRON = 10  # and of the linear tetrahedron (4 corners)
 
 
+SAMPLE_BYTES = 1 << 16   # the leading bytes deflated to judge an array (_compressed)
+STORED_ABOVE = 0.9       # the sample deflating to more than this of itself: stored
+
+
+def _compressed(raw: bytes) -> bytes:
+    """``raw`` as a zlib stream: deflated, or stored (level 0: the same stream format,
+    read alike) where its first SAMPLE_BYTES deflate to more than STORED_ABOVE of
+    themselves."""
+    if (len(raw) > SAMPLE_BYTES
+            and len(zlib.compress(raw[:SAMPLE_BYTES], 1)) > STORED_ABOVE * SAMPLE_BYTES):
+        return zlib.compress(raw, 0)
+    return zlib.compress(raw)
+
+
 def _data_array(values: np.ndarray, vtk_type: str, name: str, components: int = 1) -> str:
     """One inline DataArray, "binary" and compressed in one block: base64 of the header
     (blocks, block size, last block's size, its compressed size: UInt64), then base64
     of the compressed bytes."""
     raw = np.ascontiguousarray(values).tobytes()
-    packed = zlib.compress(raw)
+    packed = _compressed(raw)
     header = np.array([1, len(raw), len(raw), len(packed)], dtype="<u8").tobytes()
     encoded = base64.b64encode(header).decode() + base64.b64encode(packed).decode()
     count = f' NumberOfComponents="{components}"' if components > 1 else ""
@@ -171,28 +192,37 @@ def _data_arrays(data: dict) -> str:
                    for name, v in data.items())
 
 
-def vtu_text(points: np.ndarray, cells: np.ndarray, point_data: dict,
-             cell_data: dict | None = None, cell_type: int = VTK_HEXAHEDRON) -> str:
-    """A .vtu (VTK XML unstructured grid) of ``cells`` (cells, corners) of VTK's type
-    ``cell_type`` (VTK_HEXAHEDRON: 8 corners, VTK_TETRAHEDRON: 4) over
-    ``points`` (nodes, 3), with the node arrays ``point_data`` (name: (nodes,) or
-    (nodes, components)) and the cell arrays ``cell_data`` (name: (cells,) or
-    (cells, components))."""
+def vtu_mesh(points: np.ndarray, cells: np.ndarray, cell_type: int = VTK_HEXAHEDRON) -> str:
+    """A .vtu's Piece opening, Points and Cells: ``cells`` (cells, corners) of VTK's type
+    ``cell_type`` (VTK_HEXAHEDRON: 8 corners, VTK_TETRAHEDRON: 4) over ``points``
+    (nodes, 3)."""
     cells = np.asarray(cells, dtype="<i8")
-    fields = _data_arrays(point_data)
-    cell_part = (f"<CellData>\n{_data_arrays(cell_data)}</CellData>\n" if cell_data else "")
     offsets = np.arange(1, cells.shape[0] + 1, dtype="<i8") * cells.shape[1]
     types = np.full(cells.shape[0], cell_type, dtype=np.uint8)
-    return ('<?xml version="1.0"?>\n'
-            '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
-            'header_type="UInt64" compressor="vtkZLibDataCompressor">\n<UnstructuredGrid>\n'
-            f'<Piece NumberOfPoints="{len(points)}" NumberOfCells="{len(cells)}">\n'
+    return (f'<Piece NumberOfPoints="{len(points)}" NumberOfCells="{len(cells)}">\n'
             "<Points>\n" + _data_array(np.asarray(points, dtype="<f8"), "Float64", "Points", 3)
             + "</Points>\n<Cells>\n"
             + _data_array(cells.ravel(), "Int64", "connectivity")
             + _data_array(offsets, "Int64", "offsets")
             + _data_array(types, "UInt8", "types")
-            + "</Cells>\n<PointData>\n" + fields + "</PointData>\n" + cell_part
+            + "</Cells>\n")
+
+
+def vtu_text(points: np.ndarray, cells: np.ndarray, point_data: dict,
+             cell_data: dict | None = None, cell_type: int = VTK_HEXAHEDRON,
+             mesh: str | None = None) -> str:
+    """A .vtu (VTK XML unstructured grid) of ``cells`` over ``points`` (vtu_mesh, or its
+    text ``mesh`` made once for a series), with the node arrays ``point_data`` (name:
+    (nodes,) or (nodes, components)) and the cell arrays ``cell_data`` (name: (cells,)
+    or (cells, components))."""
+    if mesh is None:
+        mesh = vtu_mesh(points, cells, cell_type)
+    fields = _data_arrays(point_data)
+    cell_part = (f"<CellData>\n{_data_arrays(cell_data)}</CellData>\n" if cell_data else "")
+    return ('<?xml version="1.0"?>\n'
+            '<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
+            'header_type="UInt64" compressor="vtkZLibDataCompressor">\n<UnstructuredGrid>\n'
+            + mesh + "<PointData>\n" + fields + "</PointData>\n" + cell_part
             + "</Piece>\n</UnstructuredGrid>\n</VTKFile>\n")
 
 
