@@ -229,13 +229,13 @@ def test_the_coarse_ball_s_orbit_at_a_short_step_is_found_past_400_cycles():
     lumped model"): the step's own error at 1e-6 s, where the scheme carries the rocking
     mode 0.3% low, was 4e-4 (0.2743; docs/performance.md, "the balls' answers against
     the step")."""
-    from conftest import model_at_rest
     from vibrofric.fem.integrators import registry
+    from vibrofric.fem.model import fe_model
     from vibrofric.fem.integrators.cycle_map import FECycleMap
 
     scene = scene_module.load("scenes/ball.toml").with_values(
         {"fem.interface_reach": 3.0, "time.dt": 1e-6, "fem.output_every": 0})
-    model = model_at_rest(scene)
+    model = fe_model.build_model(scene, None)
     shot_scene, steps = periodic.periodic_scene(scene)
     run = registry.select(shot_scene)(shot_scene, model)
     orbit = periodic.find_orbit(FECycleMap(run, run.model, steps), stability=False)

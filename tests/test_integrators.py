@@ -377,12 +377,11 @@ def test_the_full_compliance_from_one_real_factorization_is_the_complex_lu_s(bod
     the static compliance c(0) (measured 1e-13 and 5e-13), which moves an estimate of
     1e-5 of c(0) or more by 1e-4 of itself at most, far inside the 1% decision it serves.
     The space stays small: 14 and 18 vectors (measured), bound 60."""
-    from conftest import model_at_rest
     from vibrofric.fem.integrators.reduction import (FullCompliance, compared_harmonics,
                                                      direct_compliance)
     scene = load(LONGITUDINAL) if body == "block" else \
         scenes.load(ROOT / "scenes" / "ball.toml").with_values({"fem.interface_reach": "all"})
-    model = fe_model.build_model(scene, comm) if body == "block" else model_at_rest(scene)
+    model = fe_model.build_model(scene, comm if body == "block" else None)
     reduction = Reduction(model, scene.fem.cutoff * scene.vibration.f)
     k_t = scene.law_bounds.stiffness
     omegas = [2 * math.pi * h * scene.vibration.f for h in compared_harmonics(scene)]
