@@ -45,10 +45,10 @@ inline and zlib-compressed (VTK's vtkZLibDataCompressor: a header of UInt64
 sizes, then the compressed little-endian bytes, each in base64), as meshio
 wrote it before; importing meshio took a run longer than writing all its
 frames (docs/performance.md, "Design choices measured"). An array whose bytes hardly
-deflate (a field's float noise: a stress or a velocity shrinks by a few per cent, at
-tens of MB/s) is put in the zlib stream stored (level 0) rather than deflated
-(_compressed), and a series encodes its mesh (points and cells, the same in every
-frame) once (FrameWriter).
+deflate (a field's float noise: a velocity shrinks by a few per cent, at tens of
+MB/s) is put in the zlib stream stored (level 0), the others are deflated at zlib's
+fastest level (_compressed), and a series encodes its mesh (points and cells, the same
+in every frame) once (FrameWriter).
 """
 
 import base64
@@ -160,16 +160,18 @@ VTK_TETRAHEDRON = 10  # and of the linear tetrahedron (4 corners)
 
 SAMPLE_BYTES = 1 << 16   # the leading bytes deflated to judge an array (_compressed)
 STORED_ABOVE = 0.9       # the sample deflating to more than this of itself: stored
+DEFLATE_LEVEL = 1        # zlib's fastest: on a run's fields within a few per cent of the
+                         # default level's size, in a fraction of its time (performance.md)
 
 
 def _compressed(raw: bytes) -> bytes:
     """``raw`` as a zlib stream: deflated, or stored (level 0: the same stream format,
     read alike) where its first SAMPLE_BYTES deflate to more than STORED_ABOVE of
-    themselves."""
-    if (len(raw) > SAMPLE_BYTES
-            and len(zlib.compress(raw[:SAMPLE_BYTES], 1)) > STORED_ABOVE * SAMPLE_BYTES):
+    themselves; deflated at DEFLATE_LEVEL."""
+    if (len(raw) > SAMPLE_BYTES and len(zlib.compress(raw[:SAMPLE_BYTES], DEFLATE_LEVEL))
+            > STORED_ABOVE * SAMPLE_BYTES):
         return zlib.compress(raw, 0)
-    return zlib.compress(raw)
+    return zlib.compress(raw, DEFLATE_LEVEL)
 
 
 def _data_array(values: np.ndarray, vtk_type: str, name: str, components: int = 1) -> str:
