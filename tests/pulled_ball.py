@@ -77,12 +77,16 @@ def hertz_radius() -> float:
 RING_HALF_WIDTH = 0.12
 
 
-def ball(directory, pole_size, ring_size=None):
+def ball(directory, pole_size, ring_size=None, annulus_q=None):
     """The hemisphere of pole mesh ``pole_size`` (m) with its top as the drive group; with
     ``ring_size`` (m) refined further to that edge within RING_HALF_WIDTH a of the patch's
-    edge r = a (hemisphere.Ring)."""
+    edge r = a (hemisphere.Ring); with ``annulus_q`` too, within RING_HALF_WIDTH a of the
+    band from Mindlin's stick radius at Q* = annulus_q mu P, c = a (1 - q)^(1/3) (Johnson
+    eq 7.40), to a: the whole slipping annulus of that cycle (0.26 a wide at q = 0.6,
+    0.54 a at 0.9) with the same margin on either side."""
     a = hertz_radius()
-    ring = None if ring_size is None else Ring(a, ring_size, RING_HALF_WIDTH * a)
+    inner = None if annulus_q is None else a * (1.0 - annulus_q) ** (1.0 / 3.0)
+    ring = None if ring_size is None else Ring(a, ring_size, RING_HALF_WIDTH * a, inner)
     return hemisphere(directory, RADIUS, pole_size, FINE_RADIUS, drive=True, ring=ring)
 
 
