@@ -10,7 +10,7 @@ area W over the last cycle; the closed form at the measured Q*.
 
     PYTHONPATH=. python benchmarks/mindlin_deresiewicz.py [--sizes 1.5e-4 1e-4] [--q 0.3 0.6 0.9]
         [--k_t 1e9] [--frequency 500] [--cycles 2.25] [--ring 2.5e-5] [--annulus]
-        [--before 0.25] [--spring 1e8]
+        [--before 0.25] [--spring 1e8] [--implicit 1e-5]
 
 (--k_t: the Dahl law's tangential stiffness for the whole patch, N/m, default
 pulled_ball.K_T, the column "k_t".) The column "Dahl's own" is what the law's
@@ -29,7 +29,10 @@ area). --spring holds the ball's top through a drive spring of that stiffness (N
 drive.mode = "spring") instead of prescribing it, so that the explicit integrator keeps
 its energy balance (fem.energy), and adds the columns "W base", "D fric" and "D damp":
 over the loop's cycle, the base's work on the ball and what the friction (its slip and
-Dahl's pre-sliding) and the damping dissipated, uJ.
+Dahl's pre-sliding) and the damping dissipated, uJ. --implicit runs the implicit integrator
+(fem.integrator = "implicit", generalized-alpha with the contact iterated in each step:
+docs/fe-model.md) at that step, s, instead of the explicit one; the column "pole mesh"
+then says so.
 
 Prints a Markdown table (docs/validation.md, "Curved contacts").
 """
@@ -62,12 +65,14 @@ def main():
     parser.add_argument("--annulus", action="store_true")
     parser.add_argument("--before", type=float, default=None)
     parser.add_argument("--spring", type=float, default=None)
+    parser.add_argument("--implicit", type=float, default=None)
     args = parser.parse_args()
     a = pb.hertz_radius()
     earlier = args.before is not None
     spring = ({} if args.spring is None else
               {"drive.mode": "spring", "drive.k_d": args.spring, "fem.energy": True})
     balance = ("W base", "D fric", "D damp") if spring else ()
+    integrator = {"fem.integrator": "implicit"} if args.implicit else {}
     print("| pole mesh | nodes | k_t (N/m) | Q* / mu P | W FE (uJ) | W eq 7.59 (uJ) | error | "
           "Dahl's own | " + ("W earlier vs last | " if earlier else "")
           + "".join(f"{name} | " for name in balance) + "s |")
@@ -81,10 +86,13 @@ def main():
             if args.ring:
                 mesh += (f"{(1.0 - q) ** (1.0 / 3.0):.2f} a < r < a" if args.annulus
                          else "r = a")
+            step = args.implicit or pb.stable_step(size, args.ring)
+            if args.implicit:
+                mesh += f", implicit at {args.implicit:g} s"
             for k_t in args.k_t:
                 start = time.perf_counter()
-                scene = pb.cycle_scene(q, pb.stable_step(size, args.ring), args.frequency,
-                                       args.cycles, **{"contact.k_t": k_t, **spring})
+                scene = pb.cycle_scene(q, step, args.frequency, args.cycles,
+                                       **{"contact.k_t": k_t, **spring, **integrator})
                 result = pb.run(body, scene)
                 Q, W = pb.cycle_dissipation(result, args.frequency)
                 closed = cm.mindlin_deresiewicz_dissipation(Q, pb.MU, pb.LOAD, a, pb.E, pb.NU)
