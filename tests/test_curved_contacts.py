@@ -101,14 +101,14 @@ def test_the_held_ball_s_cycle_dissipates_mindlin_deresiewicz_s_energy(body):
     the measured Q* (pulled_ball.cycle_scene, cycle_dissipation). This fast mesh does NOT
     meet the closed form's 10%: it dissipates 30% more at Q* = 0.59 mu P, under one of its
     elements across Mindlin's 136 um slipping annulus. Meshes refined over the annulus
-    (pulled_ball.ball's ring, over the whole annulus with annulus_q) converge within it,
-    at 2 to 7 minutes a run here (benchmarks/mindlin_deresiewicz.py --ring --annulus,
-    docs/validation.md): at Q* = 0.57 mu P +5.5%, +3.8% and +2.7% with 70, 50 and 35 um
-    across the annulus; at 0.88, +0.6%, -0.0% and +0.1%; at 0.28 (the ring at r = a)
-    +10.6%, +6.4% and +4.6% with 35, 25 and 20 um. The bounds hold this mesh's measured
-    state, the loop above eq 7.59 and within 50% of it, so that a change to the contact
-    that moves the loop shows; a loop below eq 7.59 would be a contact that sticks where
-    Mindlin's slips."""
+    (pulled_ball.ball's ring, over the whole annulus with annulus_q) converge within it
+    (benchmarks/mindlin_deresiewicz.py --ring --annulus,
+    docs/validation.md): at Q* = 0.57 mu P +5.5%, +3.8%, +2.7% and +1.7% with 70, 50, 35
+    and 25 um across the annulus; at 0.88, +0.6%, -0.0% and +0.1% (70, 50, 35 um); at
+    0.28 (the ring at r = a) +10.9%, +6.8% and +5.1% with 35, 25 and 20 um, 2 to 11
+    minutes a run. The bounds hold this mesh's measured state, the loop above eq 7.59 and
+    within 50% of it, so that a change to the contact that moves the loop shows; a loop
+    below eq 7.59 would be a contact that sticks where Mindlin's slips."""
     result = pb.run(body, pb.cycle_scene(0.6, pb.stable_step(POLE)))
     Q, W = pb.cycle_dissipation(result)
     assert 0.5 < Q / (pb.MU * pb.LOAD) < 1.0      # the cycle's amplitude as aimed
