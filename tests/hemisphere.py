@@ -6,10 +6,11 @@ first-order tetrahedra of size ``pole_size`` within ``fine_radius`` of the pole,
 growing linearly to ``size`` at twice that distance; placed with the pole on z = 0.
 Groups: "contact" the spherical face, "load" the flat top face (z = R), the volume.
 
-A ``ring`` (Ring) refines further along a circle of the spherical face around the pole:
-the contact patch's edge r = a, where Mindlin's slipping annulus lives (Johnson,
-"Contact Mechanics", 1985, eq 7.40: c = a (1 - Q / mu P)^(1/3), the annulus a - c only
-0.11 a wide at Q = 0.3 mu P), without refining the whole pole region.
+A ``ring`` (Ring) refines further along a circle of the spherical face around the pole,
+or along a band between two such circles: the contact patch's edge r = a, or Mindlin's
+slipping annulus c < r < a (Johnson, "Contact Mechanics", 1985, eq 7.40:
+c = a (1 - Q / mu P)^(1/3), the annulus a - c 0.11 a wide at Q = 0.3 mu P, 0.26 a at 0.6,
+0.54 a at 0.9), without refining the whole pole region.
 """
 
 import math
@@ -23,16 +24,33 @@ from vibrofric.meshes.refinement import GRADING
 @dataclass(frozen=True)
 class Ring:
     """A refinement along the circle of radius ``radius`` (m, from the pole's axis) on the
-    spherical face: the element edge is ``size`` within ``half_width`` of that circle (the
-    distance in 3-D) and grows beyond it by meshes.refinement's GRADING per unit distance
-    (neighbours ~25% apart: well-shaped tetrahedra), up to the pole's size."""
+    spherical face, or with ``inner`` along the band of that face between the circles of
+    radii ``inner`` and ``radius``: the element edge is ``size`` within ``half_width`` of
+    the circle or band (the distance in 3-D; inside the band, the depth below the face)
+    and grows beyond it by meshes.refinement's GRADING per unit distance (neighbours ~25%
+    apart: well-shaped tetrahedra), up to the pole's size."""
 
     radius: float
     size: float
     half_width: float
+    inner: float | None = None
 
     def name(self) -> str:
-        return f"ring-{self.radius:g}-{self.size:g}-{self.half_width:g}"
+        return (f"ring-{self.radius:g}-{self.size:g}-{self.half_width:g}"
+                + ("" if self.inner is None else f"-from-{self.inner:g}"))
+
+    def distance(self, sphere_radius) -> str:
+        """gmsh's MathEval expression of a point's distance to the circle (or band), m,
+        on the sphere of radius ``sphere_radius`` centred at z = R (pole at z = 0): to the
+        face's point at the nearest radius rho_c within the band, at the height
+        z_c = R - sqrt(R^2 - rho_c^2)."""
+        R, rho = sphere_radius, self.radius
+        if self.inner is None:
+            z_c = R - math.sqrt(R * R - rho * rho)
+            return f"Sqrt((Sqrt(x*x + y*y) - {rho!r})^2 + (z - {z_c!r})^2)"
+        nearest = f"Min(Max(Sqrt(x*x + y*y), {self.inner!r}), {rho!r})"
+        return (f"Sqrt((Sqrt(x*x + y*y) - {nearest})^2 + "
+                f"(z - {R!r} + Sqrt({R * R!r} - {nearest}^2))^2)")
 
 
 def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=None, order=1,
@@ -41,7 +59,7 @@ def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=No
     of gmsh's ``order``: 2 for the refusal of second-order cells). With ``drive`` the flat
     top is also the "drive" group (drive.attach = "drive-group"): the tangential load of
     the Cattaneo-Mindlin checks acts where the normal load does, far from the contact.
-    ``ring`` (a Ring, or None) refines along a circle around the pole as well."""
+    ``ring`` (a Ring, or None) refines along a circle or band around the pole as well."""
     size = radius / 4 if size is None else size
     name = (f"hemisphere-{radius:g}-{pole_size:g}-{fine_radius:g}-{size:g}-{order}"
             + (f"-{ring.name()}" if ring else ""))
@@ -76,11 +94,7 @@ def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=No
         if ring is None:
             field.setAsBackgroundMesh(threshold)
         else:
-            # the distance to the circle of radius rho on the sphere, at the height
-            # z_c = R - sqrt(R^2 - rho^2) (the centre at z = R)
-            rho = ring.radius
-            z_c = radius - math.sqrt(radius * radius - rho * rho)
-            distance = f"Sqrt((Sqrt(x*x + y*y) - {rho!r})^2 + (z - {z_c!r})^2)"
+            distance = ring.distance(radius)
             band = field.add("MathEval")
             field.setString(band, "F", f"{ring.size!r} + {GRADING!r} * "
                                        f"Max(0, {distance} - {ring.half_width!r})")
@@ -100,7 +114,9 @@ def hemisphere(directory, radius=0.01, pole_size=4e-5, fine_radius=4e-4, size=No
                            key=name + ("-drive" if drive else ""),
                            description=f"hemisphere R = {radius:g} m, {pole_size:g} m at its pole"
                                        + (f", {ring.size:g} m within {ring.half_width:g} m of "
-                                          f"r = {ring.radius:g} m" if ring else ""))
+                                          + (f"r = {ring.radius:g} m" if ring.inner is None
+                                             else f"{ring.inner:g} m < r < {ring.radius:g} m")
+                                          if ring else ""))
 
 
 def hertz(E, nu, radius, load):

@@ -16,10 +16,9 @@ P = 100 N: a = (3 P R / 4 E*)^(1/3) = 0.515 mm, a / R = 0.05.
 The holder. The drive prescribes the top's mean X only, and a ball pulled above its
 contact rolls on it (elastically free: nothing resists the moment Q R about the contact).
 Cattaneo and Mindlin's ball is held by its holder, which translates without turning; here
-the top's nodes are tied in Z to their weighted mean (held: springs k_hold w_a about the
-preloaded state), so the top stays flat and the ball cannot turn about X or Y. The ties
-stiffen the top against tilting by k_hold R^2 / 4 = 2.5e5 N m / rad: under the moment Q R
-at Q = 45 N the contact moves by R theta = 0.02 um, 0.15% of delta.
+the project's (drive.holder = "translating", vibrofric/fem/model/holder.py): the top's
+nodes tied in X, Y and Z to their weighted mean, so the top moves as one rigid
+translation, carrying P and the pull, and the ball cannot turn about X or Y.
 
 What is compared (docs/validation.md, "Curved contacts"):
 
@@ -40,12 +39,10 @@ c       The stick radius at Q, read two ways from the contact nodes closed and s
         the nodes).
 """
 
-import dataclasses
 import math
 from pathlib import Path
 
 import numpy as np
-import scipy.sparse as sp
 
 from hemisphere import INNER, Ring, hemisphere
 
@@ -58,8 +55,6 @@ from vibrofric.fem.outputs.contact_patch import SLIP, STICK
 RADIUS, LOAD, E, NU, MU = 0.01, 100.0, 5e9, 0.3, 0.5
 STUCK_MU = 10.0     # the stuck run's: Q stays below 0.07 mu P (Mindlin's slipping annulus
                     # 0.02 a wide, inside the outer ring of nodes)
-K_HOLD = 1e10       # N/m, the holder's ties in all: their highest frequency ~0.6 MHz, far
-                    # below the mesh's own (14 MHz), so the explicit step is the mesh's
 K_T = 1e9           # N/m for the whole patch: mu P / k_t = 0.05 um, 0.3% of delta at mu P
 V_D = 5e-3          # m/s: mu P is reached after ~15 um, 3 ms, 240 wave transits of
                     # the ball (R / sqrt(E / rho) = 12.5 us): quasi-static
@@ -77,12 +72,16 @@ def hertz_radius() -> float:
 RING_HALF_WIDTH = 0.12
 
 
-def ball(directory, pole_size, ring_size=None):
+def ball(directory, pole_size, ring_size=None, annulus_q=None):
     """The hemisphere of pole mesh ``pole_size`` (m) with its top as the drive group; with
     ``ring_size`` (m) refined further to that edge within RING_HALF_WIDTH a of the patch's
-    edge r = a (hemisphere.Ring)."""
+    edge r = a (hemisphere.Ring); with ``annulus_q`` too, within RING_HALF_WIDTH a of the
+    band from Mindlin's stick radius at Q* = annulus_q mu P, c = a (1 - q)^(1/3) (Johnson
+    eq 7.40), to a: the whole slipping annulus of that cycle (0.26 a wide at q = 0.6,
+    0.54 a at 0.9) with the same margin on either side."""
     a = hertz_radius()
-    ring = None if ring_size is None else Ring(a, ring_size, RING_HALF_WIDTH * a)
+    inner = None if annulus_q is None else a * (1.0 - annulus_q) ** (1.0 / 3.0)
+    ring = None if ring_size is None else Ring(a, ring_size, RING_HALF_WIDTH * a, inner)
     return hemisphere(directory, RADIUS, pole_size, FINE_RADIUS, drive=True, ring=ring)
 
 
@@ -94,42 +93,27 @@ def stable_step(pole_size, ring_size=None) -> float:
 
 
 def pull_scene(mu, T, dt, **values):
-    """The longitudinal scene turned into the pull: no vibration, stepped, no estimates,
-    400 rows of series."""
+    """The longitudinal scene turned into the pull, the top held (drive.holder): no
+    vibration, stepped, no estimates, 400 rows of series."""
     return scenes.load(SCENE).with_values({
         "contact.F_N": LOAD, "contact.mu": mu, "contact.k_t": K_T,
         "body.gravity": 0.0, "body.density": 7850.0, "body.E": E, "body.nu": NU,
-        "drive.mode": "velocity", "drive.attach": "drive-group", "drive.v_d": V_D,
+        "drive.mode": "velocity", "drive.attach": "drive-group", "drive.holder": "translating",
+        "drive.v_d": V_D,
         "vibration.k_v": 0.0, "time.T": T, "time.dt": dt, "time.method": "transient",
         "time.series_dt": dt * max(1, round(T / dt / 400)), "time.error_estimate": False,
         "fem.output_every": 0, **values})
 
 
-def held(model, k_hold=K_HOLD):
-    """``model`` with its drive group's nodes tied in Z to their weighted mean: the energy
-    k_hold / 2 sum_a w_a (dz_a - sum_b w_b dz_b)^2 of dz = u_z - u0_z, whose stiffness is
-    k_hold (W - w w^T) on those Z DOFs; K_tie u0 joins the load so that the preload stays
-    the static state."""
-    dofs = 3 * model.attach_nodes + 2
-    w = model.attach_weights
-    tie = k_hold * (np.diag(w) - np.outer(w, w))
-    rows, cols = np.meshgrid(dofs, dofs, indexing="ij")
-    k_tie = sp.csr_matrix((tie.ravel(), (rows.ravel(), cols.ravel())),
-                          shape=model.stiffness.shape)
-    disc = dataclasses.replace(model.disc, stiffness=(model.stiffness + k_tie).tocsr())
-    return dataclasses.replace(model, disc=disc, load=model.load + k_tie @ model.u0)
-
-
 def run(body, scene):
-    """simulate.run_fe of ``scene`` with ``body`` (a BodyMesh) as its body, held (held)."""
-    saved = fe_model.body_of, fe_model.block_size, simulate.build_model
+    """simulate.run_fe of ``scene`` with ``body`` (a BodyMesh) as its body."""
+    saved = fe_model.body_of, fe_model.block_size
     fe_model.body_of = lambda scene, level=None: body
     fe_model.block_size = lambda scene: None
-    simulate.build_model = lambda scene, comm: held(saved[2](scene, comm))
     try:
         return simulate.run_fe(scene)
     finally:
-        fe_model.body_of, fe_model.block_size, simulate.build_model = saved
+        fe_model.body_of, fe_model.block_size = saved
 
 
 def ringing_period(stuck) -> float:
