@@ -245,7 +245,8 @@ CYCLE_FREQUENCY = 500.0   # Hz
 CYCLES = 2.25             # the first quarter loads from 0; the loop is read over the last
                           # cycle (cycle_dissipation). One cycle after the first quarter
                           # (1.25) read 59.4 uJ against the 2.25 cycles' 53.1 at 500 Hz on
-                          # the 150 um mesh: the first loop is not yet the steady one
+                          # the 150 um mesh (its top then tied in Z only): the first loop
+                          # is not yet the steady one
 HELD_SPEED = 1e-9         # m/s
 # u0 for a target q = Q* / mu P: the closed form's delta(Q*) with the bulk's ~10% added
 # (C_stuck / C_0, benchmarks/cattaneo_mindlin.py) less a margin, so Q* stays below mu P
