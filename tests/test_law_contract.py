@@ -792,9 +792,9 @@ def test_the_example_law_runs_in_the_fe_model_through_the_command(tmp_path, caps
 
 def test_a_law_compiled_under_another_module_name_is_compiled_anew(tmp_path):
     """numba's cache beside a law file holds the module name the law was loaded under;
-    loaded later under another (the name is the file's place and content, and was once
-    its content alone), the cached entry cannot be loaded ("No module named ..."): the
-    law is compiled anew instead of refused."""
+    loaded later under another (an earlier naming of law modules), the cached entry
+    cannot be loaded ("No module named ..."): the law is compiled anew instead of
+    refused."""
     import importlib.util
     import sys
 
@@ -819,3 +819,42 @@ def test_a_law_compiled_under_another_module_name_is_compiled_anew(tmp_path):
     # a slip of 1 um on k_t = 80e6 N/m is far past the slip circle: the force is mu N
     F_x, F_y = update(1e-6, 0.0, 0.0, 0.0, 10.0, 1.0, np.zeros(2), np.array([80e6, 0.1]), 1e-6)
     assert (F_x, F_y) == (pytest.approx(1.0, rel=1e-12), 0.0)
+
+
+# One contact step of a law file through its own compiled loop (law.py contact_step's,
+# cached by the law's fingerprint), printing the force: run in a process of its own.
+ONE_STEP = """
+import sys
+import numpy as np
+from vibrofric.friction_law import ContactLaw, contact_step, load_law
+law = load_law(sys.argv[1])
+contact = ContactLaw(law, law.values({}), 55.0)
+force = contact_step(contact, law.initial_state(1), np.array([[1e-7, 0.0]]), np.zeros((1, 2)),
+                     np.array([55.0]), np.ones(1), 1e-6)
+print(repr(float(force[0, 0])))
+"""
+
+
+@pytest.mark.slow
+def test_the_same_law_from_another_place_in_another_process_finds_its_compiled_loops(tmp_path):
+    """A law's loops are cached by its fingerprint (its content), and numba's cached code
+    imports the law's module by name: the same file at another place, run by another
+    process over the same cache (a results directory's copy, a test's temporary file),
+    runs on those loops. (Named by its place too, the module was not found: "No module
+    named 'vibrofric_law_...'".)"""
+    import subprocess
+    import sys
+
+    environment = {**os.environ, "VIBROFRIC_CACHE": str(tmp_path / "cache"),
+                   "PYTHONPATH": str(ROOT)}
+    forces = []
+    for place in ("first", "second"):
+        (tmp_path / place).mkdir()
+        law = tmp_path / place / "jenkins.py"
+        law.write_text((ROOT / "examples" / "laws" / "jenkins.py").read_text())
+        done = subprocess.run([sys.executable, "-c", ONE_STEP, str(law)], capture_output=True,
+                              text=True, env=environment, cwd=tmp_path)
+        assert done.returncode == 0, done.stderr[-2000:]
+        forces.append(float(done.stdout.strip().splitlines()[-1]))
+    # 0.1 um of slip on k_t = 80e6 N/m: 8 N, past mu F_N = 5.5 N: the law's limit, twice
+    assert forces == [pytest.approx(5.5, rel=1e-12)] * 2

@@ -328,27 +328,36 @@ def _load_module(name: str):
         path = Path(name)
         if not path.is_file():
             raise LawError(f"no friction law file {path}")
-        # A module of its own for each content (an edited file is loaded anew) and each
-        # place: numba finds a compiled function by its module's file, so a copy served
-        # by the module of the original (a results directory's law file) failed to
-        # compile once the original was gone ("no locator available for file").
-        digest = hashlib.sha256(str(path.resolve()).encode() + b"\0"
-                                + path.read_bytes()).hexdigest()[:12]
+        # A module named by the file's content (an edited file is loaded anew): the law's
+        # compiled loops are cached by its fingerprint, the content's, and numba's cached
+        # code imports the module by that name in any later process. Loaded from another
+        # place, it is executed again from this one under the same name: numba finds a
+        # function's cache by its module's file, and a copy served by the original's
+        # module (a results directory's law file) failed to compile once the original
+        # was gone ("no locator available for file").
+        digest = hashlib.sha256(path.read_bytes()).hexdigest()[:12]
         module_name = f"vibrofric_law_{path.stem}_{digest}"
-        if module_name in sys.modules:
-            return sys.modules[module_name], path
+        loaded = sys.modules.get(module_name)
+        if loaded is not None and Path(loaded.__file__).resolve() == path.resolve():
+            return loaded, path
         spec = importlib.util.spec_from_file_location(module_name, path)
         if spec is None:   # Python loads only a source file it recognizes by its suffix
             raise LawError(f"friction law file {path}: not a Python file (name it .py)")
         module = importlib.util.module_from_spec(spec)
         sys.modules[module_name] = module
+        def unload():   # the module of the other place, if any, as it was
+            if loaded is None:
+                del sys.modules[module_name]
+            else:
+                sys.modules[module_name] = loaded
+
         try:
             spec.loader.exec_module(module)
         except KeyboardInterrupt:
-            del sys.modules[module_name]
+            unload()
             raise
         except BaseException as err:  # SystemExit too: a law's import never ends the run
-            del sys.modules[module_name]
+            unload()
             raise LawError(f"{where_in_law(err, path)}: could not be loaded: "
                            f"{type(err).__name__}: {err}") from None
         return module, path

@@ -90,7 +90,7 @@ def compile_law(module, where: str) -> object:
 
 def _compiled(function, signature):
     """``function`` compiled by numba for ``signature`` with bounds checks, cached beside
-    the law's file. A law file's module is named by the file's place and content
+    the law's file. A law file's module is named by the file's content
     (contract._load_module); an entry numba cached there under another module name (an
     earlier naming) cannot be loaded ("No module named 'vibrofric_law_..."), so the
     function's cache index is emptied and the function compiled anew."""
