@@ -468,8 +468,7 @@ class FullCompliance:
 
     def __init__(self, model, boundary, k_t: float, omegas):
         self.model, self.boundary, self.k_t = model, boundary, k_t
-        springs = np.zeros(model.dofs)
-        springs[boundary] = _linearized_contact(model, k_t)
+        springs = _full_contact_springs(model, boundary, k_t)
         mass = model.disc.mass
         self.shift = min(omegas) ** 2
         shifted = (model.stiffness + sp.diags(springs + self.shift * mass)).tocsc()
@@ -526,11 +525,17 @@ class FullCompliance:
         return self._projected(omega)
 
 
+def _full_contact_springs(model, boundary, k_t: float) -> np.ndarray:
+    """(dofs,) _linearized_contact's springs on the full model's boundary DOFs, 0 elsewhere."""
+    springs = np.zeros(model.dofs)
+    springs[boundary] = _linearized_contact(model, k_t)
+    return springs
+
+
 def direct_compliance(model, boundary, k_t: float, omega: float) -> np.ndarray:
     """(3,) the full model's compliances at omega by the complex LU of A(w) (FullCompliance):
     the reference the Krylov space is checked against (tests), and its fallback."""
-    springs = np.zeros(model.dofs)
-    springs[boundary] = _linearized_contact(model, k_t)
+    springs = _full_contact_springs(model, boundary, k_t)
     K_full = (model.stiffness + sp.diags(springs)).tocsc()
     loads = _compliance_loads(model, boundary)
     matrix = K_full * (1.0 + 1j * LOSS_FACTOR) - omega ** 2 * sp.diags(model.disc.mass)
