@@ -6,9 +6,12 @@ The paper's block (the longitudinal scene, 0.5 kg, contact-plane drive) made
 which the lumped body lacks, does not dominate: the FE penalty fem.penalty is fixed
 at the default block's (10 E A / L_z at E = 209 GPa) and the lumped contact.k_n
 matched to the stiff block's bounce on it (core/bounce.py, the bar on the spring: 3%
-below the penalty at E x 100). At E x 100 the reduced model's steady cycle is
-unstable at 100-250 steps a cycle, with or without the normal motion, and its
-stepped runs drift: docs/validation.md's table is at --stiffer 10. Cases (A_th: the
+below the penalty at E x 100). At E x 100 the reduced model's steady cycle of the
+block unheld is unstable at 100-250 steps a cycle, with or without the normal
+motion, and its stepped runs drift: docs/validation.md's first table is at --stiffer
+10. Held (--hold), its steady cycle is stable at E x 100 too: docs/validation.md
+"Stiff enough", --stiffer 100 --contact-damping modal --zeta-n 0.05 --hold
+--steps-per-cycle 400 --lumped-dt 1.25e-7 [--levels ... --kv 6|0 [--phase 90]]. Cases (A_th: the
 amplitude at which the forced normal-force swing m w^2 A_n / (1 - r^2) reaches F_N):
 
     in contact   A_n = 0.45 A_th, phase 0, with the longitudinal vibration k_v = 6
@@ -311,9 +314,11 @@ def main() -> None:
     parser.add_argument("--lumped-dt", type=float, default=5e-7)
     parser.add_argument("--integrator", default="reduced", choices=("reduced", "explicit"))
     parser.add_argument("--levels", default=None,
-                        help="comma-separated fractions of A_th, at k_v = --kv, phase 0")
+                        help="comma-separated fractions of A_th, at k_v = --kv, phase --phase")
     parser.add_argument("--kv", type=float, default=0.0,
                         help="vibration.k_v of the --levels rows (0: the normal motion alone)")
+    parser.add_argument("--phase", type=float, default=None,
+                        help="vibration.normal_phase_deg of the --levels rows (90: elliptical)")
     parser.add_argument("--block", default="paper", choices=tuple(BLOCKS))
     parser.add_argument("--contact-damping", default="fe", choices=("fe", "lumped", "modal"))
     parser.add_argument("--zeta-n", type=float, default=None, help="contact.zeta_n")
@@ -331,8 +336,10 @@ def main() -> None:
                              "fraction, and as a shift along A_n")
     args = parser.parse_args()
     label = "normal only" if args.kv == 0.0 else f"k_v = {args.kv:g}"
+    if args.phase is not None:
+        label += f", phase {args.phase:g} deg"
     cases = CASES if args.levels is None else tuple(
-        (f"{label}, {level:g} A_th", level, None, args.kv, {})
+        (f"{label}, {level:g} A_th", level, args.phase, args.kv, {})
         for level in map(float, args.levels.split(",")))
     posed = {"block": args.block, "damping": args.contact_damping}
     if args.zeta_n is not None:

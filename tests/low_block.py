@@ -25,9 +25,10 @@ def low_block_scene(level: float, k_v: float, zeta_n: float, **keys):
     return stiff_block_scene(SIZE, level, k_v, zeta_n, **keys)
 
 
-def stiff_block_scene(size, level: float, k_v: float, zeta_n: float, **keys):
+def stiff_block_scene(size, level: float, k_v: float, zeta_n: float,
+                      stiffer: float = STIFFER, **keys):
     """The longitudinal scene on a block of ``size`` (m; the paper's: meshes.DEFAULT_SIZE)
-    and the paper's mass, E x STIFFER, its base moving along Z at ``level`` times A_th
+    and the paper's mass, E x ``stiffer``, its base moving along Z at ``level`` times A_th
     from T_ON: the FE penalty the paper's block's, the lumped k_n the block's bounce on
     it (core/bounce.py), contact.zeta_n = ``zeta_n`` and fem.damping
     c_n / k_pen, so that the FE nodes' penalty dashpots sum to the lumped one's; the
@@ -37,9 +38,9 @@ def stiff_block_scene(size, level: float, k_v: float, zeta_n: float, **keys):
     base = load_scene("longitudinal")
     penalty = default_penalty(base.body.E, base.body.size)
     mass = base.body.mass
-    k_n = bounce_stiffness(mass, STIFFER * base.body.E, mass / math.prod(size), size, penalty)
+    k_n = bounce_stiffness(mass, stiffer * base.body.E, mass / math.prod(size), size, penalty)
     f = base.vibration.f
-    values = {"body.E": STIFFER * base.body.E, "body.size": list(size), "fem.penalty": penalty,
+    values = {"body.E": stiffer * base.body.E, "body.size": list(size), "fem.penalty": penalty,
               "contact.k_n": k_n, "contact.zeta_n": zeta_n, "fem.mesh": "coarse",
               "fem.integrator": "reduced", "vibration.k_v": k_v, "vibration.t_on": T_ON,
               "time.T": T_ON + CYCLES / f, "time.dt": 5e-7, "time.average_cycles": 20,

@@ -213,14 +213,15 @@ def test_a_body_leaving_the_base_each_cycle_is_judged_bouncing_not_forced():
     assert irregular.kind == "bouncing" and not settled(irregular.kind, irregular.forced)
 
 
-def follows_the_lumped_body_losing_contact(scene, fe_values=()):
-    """Check ``scene`` (a stiff block 2% above A_th) against the lumped body, as
+def follows_the_lumped_body_losing_contact(scene, fe_values=(), steps=200):
+    """Check ``scene`` (a stiff block above A_th) against the lumped body, as
     docs/validation.md "A base moving along Z" poses it: the lumped body stepped, the
-    FE block (with ``fe_values``) at 200 steps a cycle. Both lose contact for part of
+    FE block (with ``fe_values``) at ``steps`` a cycle. Both lose contact for part of
     the cycle, their loss fractions within 0.05 of each other, and their F_dv/F_d0
     within the acceptance's 5%."""
     _, lumped = solve(scene.with_values({"time.method": "transient"}), estimate=False)
-    fe_scene = scene.with_values({"time.dt": 1.0 / (200 * scene.vibration.f), **dict(fe_values)})
+    fe_scene = scene.with_values({"time.dt": 1.0 / (steps * scene.vibration.f),
+                                  **dict(fe_values)})
     result = run_fe(fe_scene)
     loss = lumped["contact_loss_fraction"]
     assert 0.05 < loss < 0.3 and lumped["normal_force_min"] == 0.0
@@ -244,6 +245,11 @@ def test_the_low_stiff_block_posed_alike_follows_the_lumped_body_losing_contact(
     follows_the_lumped_body_losing_contact(scene)
 
 
+# The FE block held as the lumped body is: pulled and pressed at its top face, which
+# translates without turning (fem/model/holder.py).
+HELD = {"drive.attach": "load-group", "drive.holder": "translating"}
+
+
 @pytest.mark.slow
 def test_the_paper_block_held_at_its_top_follows_the_lumped_body_losing_contact():
     """docs/validation.md "A base moving along Z": the paper's 53 mm block, stiff (E x
@@ -258,7 +264,25 @@ def test_the_paper_block_held_at_its_top_follows_the_lumped_body_losing_contact(
     the same block rocks, one edge landing alone, and goes over to bouncing: out of
     contact 97.5% of the node-time, F_dv/F_d0 0.094 against 0.428 (measured with the
     holder's keys taken out), which fails both bounds."""
-    held = {"drive.attach": "load-group", "drive.holder": "translating"}
     scene = stiff_block_scene(DEFAULT_SIZE, 1.02, 6.0, 0.05)
     scene = scene.with_values({"fem.damping": contact_damping(scene) / scene.normal_stiffness})
-    follows_the_lumped_body_losing_contact(scene, held)
+    follows_the_lumped_body_losing_contact(scene, HELD)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("phase", [0.0, 90.0])
+def test_the_paper_block_stiff_enough_follows_the_lumped_body_where_the_curve_is_steep(phase):
+    """docs/validation.md "A base moving along Z": 5% above A_th, where F_dv/F_d0 falls
+    by about 0.05 F_d0 for each 1% of A_n, the held paper's block follows the lumped
+    body once it is stiff enough that its face stays flat: at E x 100 both lose contact
+    22% of the cycle and their F_dv/F_d0 agree within 2% (measured +1.88% along X,
+    +0.27% elliptical, phase 90 deg; converged in both steps +2.8% along X). Both
+    models at steps where each is within 1% of its limit (FE 400 a cycle, lumped 1.25e-7 s). The bound is the
+    acceptance's 5%. At E x 10 the case along X gives +5.0% here (+5.8% at the
+    benchmark's timing: the face opening back half first) and fails it; unheld at
+    E x 100 the block rocks over onto bouncing (out of contact 99% of the node-time
+    in both cases) and fails the loss fraction's bound."""
+    scene = stiff_block_scene(DEFAULT_SIZE, 1.05, 6.0, 0.05, stiffer=100.0,
+                              **{"time.dt": 1.25e-7, "vibration.normal_phase_deg": phase})
+    scene = scene.with_values({"fem.damping": contact_damping(scene) / scene.normal_stiffness})
+    follows_the_lumped_body_losing_contact(scene, HELD, steps=400)

@@ -58,7 +58,9 @@ The default k_n: the FE block's first bounce mode on its penalty contact
 (core/bounce.py, Scene.normal_stiffness). What the lumped body still lacks: rocking (the FE
 block tips on its face under the friction's moment, its nodes' normal forces
 differ) and the block's own elastic modes beyond the first (the FE model moves its
-base in Z too: fem/model/contact.py, docs/fe-model.md).
+base in Z too: fem/model/contact.py, docs/fe-model.md). It stands for an FE body
+held so that it cannot turn (drive.holder) and stiff enough that its face stays flat
+(docs/validation.md "A base moving along Z").
 """
 
 import math
