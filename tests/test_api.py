@@ -132,15 +132,16 @@ def _as_value(scene) -> tuple:
 
 
 def test_a_scene_is_the_same_value_after_a_run():
-    """A run keeps nothing in its scene (the README's example: a scene run, then swept over
-    both cores, which pickles it into the workers)."""
+    """A run keeps nothing in its scene: a scene run, then swept over both cores, which
+    pickles it into the workers (five points: two lanes of continuation, one per
+    worker, batch/lanes.py)."""
     scene = vf.load_scene("longitudinal", **SHORT)
     before = _as_value(scene)
     vf.run_analytic(scene)
     assert _as_value(scene) == before
     assert vf.load_scene(scene) == scene and hash(vf.load_scene(scene)) == before[1]
-    table = vf.sweep(scene, {"vibration.k_v": [2, 6]}, workers=2)
-    assert len(table) == 2 and table["F_dv_over_F_d0"].notna().all()
+    table = vf.sweep(scene, {"vibration.k_v": [2, 3, 4, 5, 6]}, workers=2)
+    assert len(table) == 5 and table["F_dv_over_F_d0"].notna().all()
     assert _as_value(scene) == before
     other = scene.with_values({"contact.mu": 0.2})
     assert other != scene and hash(other) != hash(scene)   # a law parameter is part of the value
