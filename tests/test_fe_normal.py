@@ -277,8 +277,8 @@ def test_the_paper_block_stiff_enough_follows_the_lumped_body_where_the_curve_is
     body once it is stiff enough that its face stays flat: at E x 100 both lose contact
     22% of the cycle and their F_dv/F_d0 agree within 2% (measured +1.85% along X,
     +0.25% elliptical, phase 90 deg; converged in both steps +2.7% along X). Both
-    models at steps where each is within 1% of its limit (FE 400 a cycle, lumped 1.25e-7 s). The bound is the
-    acceptance's 5%. At E x 10 the case along X gives +5.0% here (+5.8% at the
+    models at steps where each is within 1% of its limit (FE 400 a cycle, lumped
+    1.25e-7 s). The bound is the acceptance's 5%. At E x 10 the case along X gives +5.0% here (+5.8% at the
     benchmark's timing: the face opening back half first) and fails it; unheld at
     E x 100 the block rocks over onto bouncing (out of contact 99% of the node-time
     in both cases) and fails the loss fraction's bound."""

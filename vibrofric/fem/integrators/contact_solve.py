@@ -58,6 +58,9 @@ STALL_FACTOR = 1e2
 # the node's natural length (its sliding length, its preload penetration).
 CRITICAL = 0.25
 FD_STEP = 1e-4
+# A node counts as pressing at a step's start (forces_at_start) while its normal force
+# is above this fraction of its preload's: g_prev - l q_old is its force to rounding.
+PRESSING = 1e-6
 # The friction law runs on at least this many sub-steps a vibration cycle (implicit_substeps).
 SUBSTEPS_PER_CYCLE = 100
 # Above this estimated contraction factor the iteration is accelerated (anderson.py:
@@ -533,11 +536,6 @@ def iterate_contact(t, step, operators, contact, params, drive, scheme, mu_max, 
         qc, x_a_best, y_a, t, step, G, h, e, af1, contact_dofs, contact, params, drive,
         drive_now, scheme, states, work)
     return STALLED, iterations, f_d, f_hold, f_n, f_x, f_y
-
-
-# A node counts as pressing at the step's start (forces_at_start) while its normal force
-# is above this fraction of its preload's: g_prev - l q_old is its force to rounding.
-PRESSING = 1e-6
 
 
 @njit(cache=True, error_model="numpy", fastmath=FASTMATH)
