@@ -83,9 +83,11 @@ def main():
             body = pb.ball(directory, size, args.ring, q if args.annulus else None)
             mesh = f"{size * 1e6:.0f} um" + (f", {args.ring * 1e6:.0f} um at " if args.ring
                                              else "")
-            if args.ring:
-                mesh += (f"{(1.0 - q) ** (1.0 / 3.0):.2f} a < r < a" if args.annulus
-                         else "r = a")
+            if args.ring and args.annulus:
+                c_over_a = cm.stick_radius(q * pb.MU * pb.LOAD, pb.MU, pb.LOAD, 1.0)
+                mesh += f"{c_over_a:.2f} a < r < a"
+            elif args.ring:
+                mesh += "r = a"
             step = args.implicit or pb.stable_step(size, args.ring)
             if args.implicit:
                 mesh += f", implicit at {args.implicit:g} s"

@@ -80,7 +80,8 @@ def ball(directory, pole_size, ring_size=None, annulus_q=None):
     eq 7.40), to a: the whole slipping annulus of that cycle (0.26 a wide at q = 0.6,
     0.54 a at 0.9) with the same margin on either side."""
     a = hertz_radius()
-    inner = None if annulus_q is None else a * (1.0 - annulus_q) ** (1.0 / 3.0)
+    inner = (None if annulus_q is None
+             else cm.stick_radius(annulus_q * MU * LOAD, MU, LOAD, a))
     ring = None if ring_size is None else Ring(a, ring_size, RING_HALF_WIDTH * a, inner)
     return hemisphere(directory, RADIUS, pole_size, FINE_RADIUS, drive=True, ring=ring)
 
